@@ -1,0 +1,51 @@
+#pragma once
+// One exception type for errors in the user's input (exit status 1). Programming errors are
+// assertions, not exceptions of this type.
+#include <stdexcept>
+#include <string>
+
+namespace hencky {
+
+struct SourceLocation {
+  std::string file;  ///< file the error is about (case file, mesh, temperature table)
+  int line = 0;      ///< 1-based, 0 when unknown
+  int column = 0;    ///< 1-based, 0 when unknown
+  std::string key;   ///< dotted key path in the case file, e.g. "boundary[2].pressure"
+};
+
+class InputError : public std::runtime_error {
+ public:
+  InputError(SourceLocation where, const std::string& message)
+      : std::runtime_error(format(where, message)), where_(std::move(where)), message_(message) {}
+  explicit InputError(const std::string& message) : InputError(SourceLocation{}, message) {}
+
+  const SourceLocation& where() const { return where_; }
+  const std::string& message() const { return message_; }
+
+  /// "file:line:column: key: message" with the parts that are known.
+  static std::string format(const SourceLocation& w, const std::string& message) {
+    std::string s;
+    if (!w.file.empty()) {
+      s += w.file;
+      if (w.line > 0) {
+        s += ":" + std::to_string(w.line);
+        if (w.column > 0) s += ":" + std::to_string(w.column);
+      }
+      s += ": ";
+    }
+    if (!w.key.empty()) s += "'" + w.key + "': ";
+    return s + message;
+  }
+
+ private:
+  SourceLocation where_;
+  std::string message_;
+};
+
+/// A step (or the whole analysis) could not be completed numerically: not an input error.
+class SolveError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace hencky
