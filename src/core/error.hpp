@@ -26,15 +26,16 @@ class InputError : public std::runtime_error {
   static std::string format(const SourceLocation& w, const std::string& message) {
     std::string s;
     if (!w.file.empty()) {
-      s += w.file;
+      s.append(w.file);
       if (w.line > 0) {
-        s += ":" + std::to_string(w.line);
-        if (w.column > 0) s += ":" + std::to_string(w.column);
+        s.append(1, ':').append(std::to_string(w.line));
+        if (w.column > 0) s.append(1, ':').append(std::to_string(w.column));
       }
-      s += ": ";
+      s.append(": ");
     }
-    if (!w.key.empty()) s += "'" + w.key + "': ";
-    return s + message;
+    if (!w.key.empty()) s.append(1, '\'').append(w.key).append("': ");
+    s.append(message);
+    return s;
   }
 
  private:

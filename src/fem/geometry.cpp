@@ -1,0 +1,83 @@
+#include "fem/geometry.hpp"
+
+#include <cmath>
+
+namespace hencky {
+
+double physical_gradients(const ReferenceTable& t, int q, std::span<const Vec3> x, double* dNdx) {
+  const int n = t.n_nodes;
+  const double* dN = &t.dN[static_cast<std::size_t>(q) * n * 3];
+  Mat3 J = Mat3::Zero();  // J(i, k) = dx_i / dξ_k
+  for (int a = 0; a < n; ++a)
+    for (int k = 0; k < 3; ++k) J.col(k) += x[a] * dN[3 * a + k];
+  const double det = J.determinant();
+  if (!(det > 0)) return det;
+  const Mat3 Jinv_t = J.inverse().transpose();  // dN/dx = J^{-T} dN/dξ
+  for (int a = 0; a < n; ++a) {
+    const Vec3 g = Jinv_t * Vec3(dN[3 * a], dN[3 * a + 1], dN[3 * a + 2]);
+    dNdx[3 * a] = g[0];
+    dNdx[3 * a + 1] = g[1];
+    dNdx[3 * a + 2] = g[2];
+  }
+  return det;
+}
+
+Vec3 point_position(const ReferenceTable& t, int q, std::span<const Vec3> x) {
+  Vec3 p = Vec3::Zero();
+  const double* N = &t.N[static_cast<std::size_t>(q) * t.n_nodes];
+  for (int a = 0; a < t.n_nodes; ++a) p += N[a] * x[a];
+  return p;
+}
+
+Vec3 face_normal(const ReferenceTable& t, int q, std::span<const Vec3> x) {
+  const int n = t.n_nodes;
+  const double* dN = &t.dN[static_cast<std::size_t>(q) * n * 2];
+  Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
+  for (int a = 0; a < n; ++a) {
+    t1 += x[a] * dN[2 * a];
+    t2 += x[a] * dN[2 * a + 1];
+  }
+  return t1.cross(t2);
+}
+
+namespace {
+bool inside_reference(CellType type, const double* xi, double tol) {
+  switch (type) {
+    case CellType::tet4:
+    case CellType::tet10:
+      return xi[0] >= -tol && xi[1] >= -tol && xi[2] >= -tol && xi[0] + xi[1] + xi[2] <= 1 + tol;
+    case CellType::wedge6:
+      return xi[0] >= -tol && xi[1] >= -tol && xi[0] + xi[1] <= 1 + tol && std::abs(xi[2]) <= 1 + tol;
+    default:
+      return std::abs(xi[0]) <= 1 + tol && std::abs(xi[1]) <= 1 + tol && std::abs(xi[2]) <= 1 + tol;
+  }
+}
+}  // namespace
+
+bool locate_in_cell(CellType type, std::span<const Vec3> x, const Vec3& p, double tol, double xi[3]) {
+  const int n = cell_n_nodes(type);
+  double N[max_cell_nodes], dN[3 * max_cell_nodes];
+  // Start at the reference centroid.
+  const bool simplex_like = type == CellType::tet4 || type == CellType::tet10;
+  xi[0] = xi[1] = simplex_like ? 0.25 : (type == CellType::wedge6 ? 1.0 / 3 : 0.0);
+  xi[2] = simplex_like ? 0.25 : 0.0;
+  for (int it = 0; it < 30; ++it) {
+    shape_values(type, xi, N);
+    shape_gradients(type, xi, dN);
+    Vec3 r = -p;
+    Mat3 J = Mat3::Zero();
+    for (int a = 0; a < n; ++a) {
+      r += N[a] * x[a];
+      for (int k = 0; k < 3; ++k) J.col(k) += x[a] * dN[3 * a + k];
+    }
+    const double det = J.determinant();
+    if (!(std::abs(det) > 0)) return false;
+    const Vec3 d = J.inverse() * r;
+    for (int k = 0; k < 3; ++k) xi[k] -= d[k];
+    if (d.norm() < 1e-13) break;
+    if (d.norm() > 1e3) return false;
+  }
+  return inside_reference(type, xi, tol);
+}
+
+}  // namespace hencky

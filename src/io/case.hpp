@@ -1,0 +1,128 @@
+#pragma once
+// The case file (YAML, see docs/case-reference.md and the contract CASE_FORMAT.md) read and
+// validated into plain typed structs. Everything that can be checked without the mesh is
+// checked here; region names, probe points and temperature-file node tags are checked against
+// the mesh later (use io/suggest.hpp for the messages and the *_where locations below).
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "io/expression.hpp"
+
+namespace hencky {
+
+/// A material property (E, nu or alpha): a constant, or a table over temperature.
+struct PropertyTable {
+  /// Table temperatures, strictly increasing; empty when the property was given as a number.
+  std::vector<double> temperature;
+  /// Values; size 1 for a constant, else temperature.size().
+  std::vector<double> value;
+  SourceLocation where;  ///< where the property is given (key e.g. "materials[0].E")
+
+  /// Value at temperature T, interpolated linearly. Outside the table the end value is used
+  /// and *outside (when given) is set to true; otherwise it is set to false.
+  double operator()(double T, bool* outside = nullptr) const;
+  bool is_constant() const { return value.size() == 1; }
+};
+
+struct MaterialSpec {
+  std::string name;                          ///< unique; default "material<i>"
+  std::vector<std::string> regions;          ///< Gmsh physical volume names; empty: the whole
+                                             ///< mesh (only allowed with exactly one material)
+  std::vector<SourceLocation> region_where;  ///< location of each region name
+  PropertyTable E, nu, alpha;                ///< alpha is 0 when not given (only allowed
+                                             ///< without a temperature section)
+  SourceLocation where;                      ///< the entry materials[i]
+};
+
+/// Nodal temperatures over time from a CSV file.
+struct TemperatureFile {
+  std::filesystem::path path;   ///< absolute
+  std::vector<double> times;    ///< from the header row, strictly increasing
+  std::vector<long> node_tags;  ///< Gmsh node tag of each row, unique, > 0
+  std::vector<double> values;   ///< values[row * times.size() + j]: node_tags[row] at times[j]
+
+  /// Temperature of row `row` at time t, linear in time; the end values outside [times].
+  double at(std::size_t row, double t) const;
+};
+
+struct TemperatureSpec {
+  bool given = false;     ///< a temperature section is present
+  double reference = 0;   ///< T_ref, the stress-free temperature (required when given)
+  std::optional<Expression> field;      ///< T(x, y, z, t); exactly one of field / file is set
+  std::optional<TemperatureFile> file;  ///< when given
+  SourceLocation where;                 ///< the temperature section
+};
+
+enum class BoundaryKind { displacement, pressure, traction, force };
+const char* to_string(BoundaryKind kind);
+
+struct BoundarySpec {
+  std::string region;
+  BoundaryKind kind = BoundaryKind::displacement;
+  /// displacement: the prescribed ones of x, y, z; traction / force: all three.
+  std::array<std::optional<Expression>, 3> components;
+  std::optional<Expression> pressure;  ///< pressure only; acts along -n (into the body)
+  SourceLocation where;                ///< location of the region name (key boundary[i].region)
+};
+
+struct ProbeSpec {
+  std::string name;  ///< unique; letters, digits, '_' and '-'
+  Vec3 point = Vec3::Zero();
+  SourceLocation where;  ///< location of the point (key output.probes[i].point)
+};
+
+struct SolverSpec {
+  enum class Linear { direct, iterative, petsc };
+  /// newton | variable-stiffness | initial-strain | initial-strain-stiffness | initial-stress
+  /// | initial-stress-stiffness. For elastic materials (all of hencky 0.1) they are the same
+  /// single linear solve per step.
+  std::string scheme = "newton";
+  std::string curve_form = "stress";  ///< stress | strain (variable-stiffness only)
+  std::vector<double> times;  ///< end times of the steps, strictly increasing, > 0, not empty
+  int max_iterations = 50;
+  double tolerance = 1e-6;   ///< 0 < tolerance < 1
+  double relaxation = 1.0;   ///< > 0
+  double correction = 1.0;   ///< >= 0; 0 turns the error correction off
+  int cutback = 4;           ///< >= 0
+  Linear linear = Linear::direct;  ///< petsc is rejected in this version
+};
+
+struct OutputSpec {
+  std::filesystem::path dir;  ///< absolute; default <case dir>/<case stem>.out
+  int every = 1;              ///< >= 1; the last step is always written
+  std::vector<ProbeSpec> probes;
+  std::vector<std::string> reactions;  ///< regions that have a displacement condition
+  std::vector<SourceLocation> reaction_where;
+};
+
+struct MeshSpec {
+  std::filesystem::path file;  ///< absolute; exists; .msh or .geo
+  int order = 0;               ///< 0: as in the file, else 1 or 2
+  double scale = 1.0;          ///< > 0
+  SourceLocation where;        ///< location of the file name (key mesh.file)
+};
+
+struct Case {
+  std::filesystem::path file;  ///< the case file, absolute
+  std::string title;           ///< default: the case file name without extension
+  MeshSpec mesh;
+  std::vector<MaterialSpec> materials;  ///< at least one
+  TemperatureSpec temperature;
+  std::vector<BoundarySpec> boundary;
+  std::optional<std::array<Expression, 3>> body_force;
+  SolverSpec solver;
+  OutputSpec output;
+};
+
+/// Reads and validates a case file. Every problem is an InputError naming the file, line,
+/// column and dotted key path, what was expected and what was found, with a suggestion for
+/// misspelt keys and values. Paths in the result are absolute (relative ones are taken from
+/// the case file's folder). Does not read the mesh.
+Case read_case(const std::filesystem::path& case_file);
+
+}  // namespace hencky

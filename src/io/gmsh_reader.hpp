@@ -1,0 +1,24 @@
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace hencky {
+
+struct MeshReadOptions {
+  int order = 0;        ///< 0: keep the file's order; 1 or 2: convert (Gmsh setOrder, serendipity hexahedra)
+  double scale = 1.0;   ///< multiply coordinates
+  std::string key = "mesh.file";  ///< case-file key, for messages
+};
+
+/// Reads a Gmsh .msh (format 2 or 4, ASCII or binary) or meshes a .geo with the Gmsh library.
+/// Physical groups become regions by name (unnamed groups by their number). The body is the
+/// union of the physical volumes, or every 3D element when the file has none. Only nodes of the
+/// body are kept and renumbered 0..n-1 in the order of their Gmsh tags. Gmsh's messages are
+/// appended to `gmsh_log` when given. Throws InputError naming the file on any failure.
+Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options,
+               std::vector<std::string>* gmsh_log = nullptr);
+
+}  // namespace hencky

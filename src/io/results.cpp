@@ -1,0 +1,189 @@
+#include "io/results.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <array>
+
+#include "fem/reference_element.hpp"
+
+namespace hencky {
+namespace fs = std::filesystem;
+
+namespace {
+// Voigt {11,22,33,23,31,12} -> ParaView's XX YY ZZ XY YZ XZ.
+constexpr std::array<int, 6> paraview_order{0, 1, 2, 5, 3, 4};
+constexpr std::array<const char*, 6> paraview_names{"xx", "yy", "zz", "xy", "yz", "xz"};
+constexpr std::array<const char*, 3> axes{"x", "y", "z"};
+}  // namespace
+
+std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
+  const auto& mesh = model.mesh();
+  std::vector<Voigt> s(mesh.n_nodes(), Voigt::Zero());
+  std::vector<int> count(mesh.n_nodes(), 0);
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    const auto nodes = mesh.cells.nodes(e);
+    const auto& tab = reference_table(mesh.cells.type[e]);
+    const int p0 = model.point_offset(e);
+    for (std::size_t a = 0; a < nodes.size(); ++a) {
+      Voigt v = Voigt::Zero();
+      for (int q = 0; q < tab.n_points; ++q) v += tab.extrapolation(a, q) * state.stress[p0 + q];
+      s[nodes[a]] += v;
+      ++count[nodes[a]];
+    }
+  }
+  for (int n = 0; n < mesh.n_nodes(); ++n)
+    if (count[n] > 0) s[n] /= count[n];
+  return s;
+}
+
+ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
+                         const std::vector<Voigt>& nodal_stress) {
+  const auto& mesh = model.mesh();
+  const auto nodes = mesh.cells.nodes(probe.cell);
+  double N[max_cell_nodes];
+  shape_values(mesh.cells.type[probe.cell], probe.xi, N);
+  ProbeValues v{Vec3::Zero(), Voigt::Zero(), 0, 0};
+  for (std::size_t a = 0; a < nodes.size(); ++a) {
+    const int n = nodes[a];
+    v.displacement += N[a] * Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]);
+    v.stress += N[a] * nodal_stress[n];
+    v.temperature += N[a] * state.nodal_temperature[n];
+  }
+  v.von_mises = von_mises(v.stress);
+  return v;
+}
+
+std::vector<Vec3> region_reactions(const Model& model, const State& state) {
+  std::vector<Vec3> out;
+  for (const auto& r : model.reaction_regions()) {
+    Vec3 f = Vec3::Zero();
+    for (int n : r.region->nodes)
+      for (int d = 0; d < 3; ++d) f[d] += state.f_int[3 * n + d] - state.f_ext[3 * n + d];
+    out.push_back(f);
+  }
+  return out;
+}
+
+ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
+    : model_(model), final_dir_(std::move(final_dir)), log_(log) {
+  const fs::path parent = final_dir_.parent_path();
+  if (!parent.empty() && !fs::exists(parent))
+    throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "output.dir"},
+                     fmt::format("the folder {} does not exist", parent.string()));
+  work_dir_ = final_dir_;
+  work_dir_ += fmt::format(".partial-{}", ::getpid());
+  fs::remove_all(work_dir_);
+  fs::create_directories(work_dir_);
+  log_.attach_file((work_dir_ / "hencky.log").string());
+  history_.open(work_dir_ / "history.csv");
+  history_ << "step,time,iterations,residual";
+  for (const auto& p : model_.probes()) {
+    const auto& name = p.spec->name;
+    for (auto ax : axes) history_ << ',' << name << ".displacement." << ax;
+    for (auto c : paraview_names) history_ << ',' << name << ".stress." << c;
+    history_ << ',' << name << ".von_mises," << name << ".equivalent_plastic_strain," << name
+             << ".temperature";
+  }
+  for (const auto& r : model_.reaction_regions())
+    for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+  history_ << '\n';
+  pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
+}
+
+ResultWriter::~ResultWriter() {
+  if (!finished_ && !work_dir_.empty())
+    log_.info("results so far are in {}", work_dir_.string());
+}
+
+void ResultWriter::step_done(const StepReport& report, const State& state) {
+  const auto nodal_stress = recover_nodal_stress(model_, state);
+  const auto reactions = region_reactions(model_, state);
+
+  // history.csv and the values the summary reports
+  history_ << fmt::format("{},{:.17g},{},{:.6e}", report.step, report.time, report.iterations,
+                          report.residual);
+  nlohmann::json probes = nlohmann::json::object(), reaction_json = nlohmann::json::object();
+  for (const auto& p : model_.probes()) {
+    const ProbeValues v = probe_values(model_, p, state, nodal_stress);
+    auto& j = probes[p.spec->name];
+    for (int d = 0; d < 3; ++d) {
+      history_ << fmt::format(",{:.17g}", v.displacement[d]);
+      j["displacement"][axes[d]] = v.displacement[d];
+    }
+    for (int c = 0; c < 6; ++c) {
+      history_ << fmt::format(",{:.17g}", v.stress[paraview_order[c]]);
+      j["stress"][paraview_names[c]] = v.stress[paraview_order[c]];
+    }
+    history_ << fmt::format(",{:.17g},0,{:.17g}", v.von_mises, v.temperature);
+    j["von_mises"] = v.von_mises;
+    j["equivalent_plastic_strain"] = 0.0;
+    j["temperature"] = v.temperature;
+  }
+  for (std::size_t k = 0; k < reactions.size(); ++k)
+    for (int d = 0; d < 3; ++d) {
+      history_ << fmt::format(",{:.17g}", reactions[k][d]);
+      reaction_json[model_.reaction_regions()[k].name][axes[d]] = reactions[k][d];
+    }
+  history_ << '\n';
+  history_.flush();
+  final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", nlohmann::json::object()}};
+
+  const int every = model_.spec().output.every;
+  if (!report.last && report.step % every != 0) return;
+
+  // Fields
+  const auto& mesh = model_.mesh();
+  const int n = mesh.n_nodes(), n_cells = mesh.cells.size();
+  std::vector<double> stress(6 * n), vm(n), cell_stress(6 * n_cells, 0.0), cell_vm(n_cells, 0.0);
+  for (int i = 0; i < n; ++i) {
+    for (int c = 0; c < 6; ++c) stress[6 * i + c] = nodal_stress[i][paraview_order[c]];
+    vm[i] = von_mises(nodal_stress[i]);
+  }
+  std::vector<int> material(n_cells), region(n_cells);
+  for (int e = 0; e < n_cells; ++e) {
+    const int p0 = model_.point_offset(e), p1 = model_.point_offset(e + 1);
+    Voigt avg = Voigt::Zero();
+    double vm_avg = 0;
+    for (int p = p0; p < p1; ++p) {
+      avg += state.stress[p];
+      vm_avg += von_mises(state.stress[p]);
+    }
+    avg /= (p1 - p0);
+    for (int c = 0; c < 6; ++c) cell_stress[6 * e + c] = avg[paraview_order[c]];
+    cell_vm[e] = vm_avg / (p1 - p0);
+    material[e] = model_.material_index(e);
+    region[e] = mesh.cell_region[e];
+  }
+  const VtuField point_fields[] = {
+      {"displacement", 3, state.u},
+      {"stress", 6, stress},
+      {"von_mises", 1, vm},
+      {"temperature", 1, state.nodal_temperature},
+  };
+  const VtuField cell_fields[] = {{"stress", 6, cell_stress}, {"von_mises", 1, cell_vm}};
+  const VtuIntField int_fields[] = {{"material", material}, {"region", region}};
+  const std::string name = fmt::format("step_{:04d}.vtu", report.step);
+  write_vtu(work_dir_ / name, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);
+  pvd_->add(report.time, name);
+}
+
+void ResultWriter::finish(nlohmann::json summary) {
+  history_.close();
+  {
+    std::ofstream out(work_dir_ / "summary.json");
+    out << summary.dump(2) << '\n';
+  }
+  // Move into place: the old directory is renamed away first, then removed.
+  fs::path old;
+  if (fs::exists(final_dir_)) {
+    old = final_dir_;
+    old += fmt::format(".old-{}", ::getpid());
+    fs::rename(final_dir_, old);
+  }
+  fs::rename(work_dir_, final_dir_);
+  if (!old.empty()) fs::remove_all(old);
+  finished_ = true;
+}
+
+}  // namespace hencky

@@ -1,0 +1,55 @@
+#pragma once
+// The outputs of the contract: results.pvd + one .vtu per written step, history.csv,
+// summary.json and hencky.log. Everything is written into a fresh directory next to the
+// requested one and moved into place only when the run ends with converged steps to show
+// (status 0 or 2): a run that fails on input or crashes never touches earlier results.
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "io/vtu_writer.hpp"
+#include "solve/analysis.hpp"
+
+namespace hencky {
+
+/// Nodal stress recovered from the integration points: each cell extrapolates its point
+/// values to its nodes (reference_table().extrapolation), nodes average over their cells.
+std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state);
+
+struct ProbeValues {
+  Vec3 displacement;
+  Voigt stress;
+  double von_mises;
+  double temperature;
+};
+ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
+                         const std::vector<Voigt>& nodal_stress);
+
+/// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext).
+std::vector<Vec3> region_reactions(const Model& model, const State& state);
+
+class ResultWriter final : public StepObserver {
+ public:
+  ResultWriter(const Model& model, std::filesystem::path final_dir, Log& log);
+  ~ResultWriter() override;
+  const std::filesystem::path& work_dir() const { return work_dir_; }
+
+  void step_done(const StepReport& report, const State& state) override;
+
+  /// Writes summary.json and moves the directory into place (replacing the old one).
+  void finish(nlohmann::json summary);
+  /// The last probe and reaction values, as the summary reports them.
+  const nlohmann::json& final_values() const { return final_values_; }
+
+ private:
+  const Model& model_;
+  std::filesystem::path final_dir_, work_dir_;
+  Log& log_;
+  std::ofstream history_;
+  std::unique_ptr<PvdWriter> pvd_;
+  nlohmann::json final_values_;
+  bool finished_ = false;
+};
+
+}  // namespace hencky

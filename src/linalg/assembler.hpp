@@ -1,0 +1,98 @@
+#pragma once
+// Lock-free parallel assembly. Element kernels fill a local matrix and vector and know nothing
+// of the global system; the assembler scatters them into the upper-triangle CSC values and a
+// full-length nodal vector. Cells of one colour share no node, so threads never write the same
+// entry, and nothing is allocated per cell.
+#include <omp.h>
+
+#include <span>
+#include <vector>
+
+#include "linalg/sparse.hpp"
+
+namespace hencky {
+
+inline constexpr int max_cell_dofs = 3 * max_cell_nodes;
+
+struct CellBuffers {
+  double ke[max_cell_dofs * max_cell_dofs];  ///< row-major n_dofs x n_dofs
+  double fe[max_cell_dofs];
+};
+
+class Assembler {
+ public:
+  Assembler(const CellSet& cells, int n_nodes, const DofMap& dofs)
+      : cells_(&cells), dofs_(&dofs), pattern_(build_pattern(cells, n_nodes, dofs)),
+        colors_(color_cells(cells, n_nodes)) {}
+
+  const SymmetricPattern& pattern() const { return pattern_; }
+  int n_colors() const { return static_cast<int>(colors_.size()); }
+
+  /// kernel(cell, CellBuffers&) fills ke and fe (both zeroed before the call). The matrix goes
+  /// into `values` (free x free), the vector into `f_full` (all 3*n_nodes dofs).
+  template <class Kernel>
+  void matrix_and_vector(Kernel&& kernel, std::span<double> values, std::span<double> f_full) const {
+    std::fill(values.begin(), values.end(), 0.0);
+    for_each_cell([&](int c, CellBuffers& b, int nd) {
+      std::fill(b.ke, b.ke + nd * nd, 0.0);
+      std::fill(b.fe, b.fe + nd, 0.0);
+      kernel(c, b);
+      scatter_matrix(c, b.ke, nd, values);
+      scatter_vector(c, b.fe, f_full);
+    });
+  }
+
+  /// kernel(cell, CellBuffers&) fills fe (zeroed before the call), added into `f_full`.
+  template <class Kernel>
+  void vector(Kernel&& kernel, std::span<double> f_full) const {
+    for_each_cell([&](int c, CellBuffers& b, int nd) {
+      std::fill(b.fe, b.fe + nd, 0.0);
+      kernel(c, b);
+      scatter_vector(c, b.fe, f_full);
+    });
+  }
+
+ private:
+  template <class F>
+  void for_each_cell(F&& f) const {
+#pragma omp parallel
+    {
+      CellBuffers buffers;  // one per thread, reused for every cell
+      for (const auto& color : colors_) {
+#pragma omp for schedule(dynamic, 32)
+        for (std::size_t k = 0; k < color.size(); ++k) {
+          const int c = color[k];
+          f(c, buffers, 3 * static_cast<int>(cells_->nodes(c).size()));
+        }
+        // the implicit barrier of `omp for` separates colours
+      }
+    }
+  }
+  void scatter_matrix(int c, const double* ke, int nd, std::span<double> values) const {
+    const auto nodes = cells_->nodes(c);
+    int eq[max_cell_dofs];
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      for (int d = 0; d < 3; ++d) eq[3 * a + d] = dofs_->eq[3 * nodes[a] + d];
+    for (int j = 0; j < nd; ++j) {
+      const int gj = eq[j];
+      if (gj < 0) continue;
+      for (int i = 0; i < nd; ++i) {
+        const int gi = eq[i];
+        if (gi < 0 || gi > gj) continue;
+        values[pattern_.find(gi, gj)] += ke[i * nd + j];
+      }
+    }
+  }
+  void scatter_vector(int c, const double* fe, std::span<double> f_full) const {
+    const auto nodes = cells_->nodes(c);
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      for (int d = 0; d < 3; ++d) f_full[3 * nodes[a] + d] += fe[3 * a + d];
+  }
+
+  const CellSet* cells_;
+  const DofMap* dofs_;
+  SymmetricPattern pattern_;
+  std::vector<std::vector<int>> colors_;
+};
+
+}  // namespace hencky

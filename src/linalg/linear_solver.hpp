@@ -1,0 +1,40 @@
+#pragma once
+// Linear solver back ends behind one interface. The step loop calls analyze() once per
+// pattern, factorize() only when the matrix values changed, and solve() per right-hand side:
+// a scheme that keeps its matrix pays a back-substitution per iteration, not a factorization.
+#include <memory>
+#include <span>
+#include <string>
+
+#include "linalg/sparse.hpp"
+
+namespace hencky {
+
+struct LinearSolverStats {
+  int n_analyses = 0;
+  int n_factorizations = 0;
+  int n_solves = 0;
+  double factor_flops = 0;     ///< floating-point operations of one numeric factorization
+  double factor_nnz = 0;       ///< entries of the factor (direct) or of the preconditioner
+  long iterations = 0;         ///< total iterations (iterative back ends)
+  std::string description;     ///< e.g. "CHOLMOD supernodal, METIS ordering"
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  /// Symbolic work on the pattern (ordering, elimination tree). Once per pattern.
+  virtual void analyze(const SymmetricPattern& pattern) = 0;
+  /// Numeric factorization (or preconditioner set-up) of the upper-triangle values.
+  /// Throws SolveError when the matrix is singular or not positive definite.
+  virtual void factorize(std::span<const double> values) = 0;
+  virtual void solve(std::span<const double> rhs, std::span<double> x) = 0;
+  virtual const LinearSolverStats& stats() const = 0;
+};
+
+enum class LinearSolverKind { direct, iterative };
+
+/// `tolerance` is the relative residual of the iterative back end.
+std::unique_ptr<LinearSolver> make_linear_solver(LinearSolverKind kind, double tolerance = 1e-10);
+
+}  // namespace hencky

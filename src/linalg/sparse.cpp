@@ -1,0 +1,113 @@
+#include "linalg/sparse.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <omp.h>
+
+namespace hencky {
+
+DofMap DofMap::from_constraints(int n_nodes, const std::vector<bool>& prescribed) {
+  DofMap m;
+  m.eq.assign(3 * static_cast<std::size_t>(n_nodes), -1);
+  for (std::size_t i = 0; i < m.eq.size(); ++i)
+    if (!prescribed[i]) m.eq[i] = m.n_free++;
+  return m;
+}
+
+std::int64_t SymmetricPattern::find(std::int64_t i, std::int64_t j) const {
+  assert(i <= j);
+  const auto b = row.begin() + col_ptr[j], e = row.begin() + col_ptr[j + 1];
+  const auto it = std::lower_bound(b, e, i);
+  return (it != e && *it == i) ? it - row.begin() : -1;
+}
+
+namespace {
+/// node -> cells incidence (CSR)
+void node_cells(const CellSet& cells, int n_nodes, std::vector<int>& ptr, std::vector<int>& idx) {
+  ptr.assign(n_nodes + 1, 0);
+  for (int n : cells.conn) ++ptr[n + 1];
+  for (int i = 0; i < n_nodes; ++i) ptr[i + 1] += ptr[i];
+  idx.resize(ptr.back());
+  std::vector<int> fill(ptr.begin(), ptr.end() - 1);
+  for (int c = 0; c < cells.size(); ++c)
+    for (int n : cells.nodes(c)) idx[fill[n]++] = c;
+}
+}  // namespace
+
+SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs) {
+  std::vector<int> nc_ptr, nc_idx;
+  node_cells(cells, n_nodes, nc_ptr, nc_idx);
+
+  // Neighbour nodes of every node (including itself), sorted.
+  std::vector<std::vector<int>> neighbours(n_nodes);
+#pragma omp parallel
+  {
+    std::vector<int> mark(n_nodes, -1);
+#pragma omp for schedule(dynamic, 256)
+    for (int v = 0; v < n_nodes; ++v) {
+      auto& nb = neighbours[v];
+      for (int k = nc_ptr[v]; k < nc_ptr[v + 1]; ++k)
+        for (int w : cells.nodes(nc_idx[k]))
+          if (mark[w] != v) {
+            mark[w] = v;
+            nb.push_back(w);
+          }
+      std::sort(nb.begin(), nb.end());
+    }
+  }
+
+  // Column j (a free dof of node v) holds the free dofs i <= j of the neighbours of v.
+  SymmetricPattern p;
+  p.n = dofs.n_free;
+  std::vector<int> dof_node(dofs.n_free), dof_comp(dofs.n_free);
+  for (int v = 0; v < n_nodes; ++v)
+    for (int d = 0; d < 3; ++d)
+      if (int j = dofs.eq[3 * v + d]; j >= 0) {
+        dof_node[j] = v;
+        dof_comp[j] = d;
+      }
+  std::vector<std::int64_t> count(p.n, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t j = 0; j < p.n; ++j) {
+    std::int64_t c = 0;
+    for (int w : neighbours[dof_node[j]])
+      for (int d = 0; d < 3; ++d)
+        if (int i = dofs.eq[3 * w + d]; i >= 0 && i <= j) ++c;
+    count[j] = c;
+  }
+  p.col_ptr.assign(p.n + 1, 0);
+  for (std::int64_t j = 0; j < p.n; ++j) p.col_ptr[j + 1] = p.col_ptr[j] + count[j];
+  p.row.resize(p.col_ptr.back());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t j = 0; j < p.n; ++j) {
+    std::int64_t pos = p.col_ptr[j];
+    for (int w : neighbours[dof_node[j]])
+      for (int d = 0; d < 3; ++d)
+        if (int i = dofs.eq[3 * w + d]; i >= 0 && i <= j) p.row[pos++] = i;
+    std::sort(p.row.begin() + p.col_ptr[j], p.row.begin() + pos);
+  }
+  return p;
+}
+
+std::vector<std::vector<int>> color_cells(const CellSet& cells, int n_nodes) {
+  // Greedy colouring with a 256-colour bit mask per node; meshes need far fewer colours
+  // (a node touches a few dozen cells at most).
+  constexpr int words = 4;
+  std::vector<std::uint64_t> used(static_cast<std::size_t>(n_nodes) * words, 0);
+  std::vector<std::vector<int>> colors;
+  for (int c = 0; c < cells.size(); ++c) {
+    std::uint64_t forbidden[words] = {0, 0, 0, 0};
+    for (int n : cells.nodes(c))
+      for (int w = 0; w < words; ++w) forbidden[w] |= used[n * words + w];
+    int color = -1;
+    for (int w = 0; w < words && color < 0; ++w)
+      if (~forbidden[w]) color = 64 * w + __builtin_ctzll(~forbidden[w]);
+    assert(color >= 0 && "more than 256 colours: a node shared by over 256 cells");
+    if (color >= static_cast<int>(colors.size())) colors.resize(color + 1);
+    colors[color].push_back(c);
+    for (int n : cells.nodes(c)) used[n * words + color / 64] |= std::uint64_t{1} << (color % 64);
+  }
+  return colors;
+}
+
+}  // namespace hencky

@@ -1,0 +1,38 @@
+#pragma once
+// Global sparse structures, built once per analysis. The matrix is symmetric and only its
+// upper triangle is stored, column by column (CSC, rows sorted), which is what CHOLMOD's
+// stype = 1 expects and what Eigen maps as a ColMajor matrix viewed through `Upper`.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace hencky {
+
+/// Equation number of every nodal degree of freedom: eq[3*node + d], or -1 when prescribed.
+struct DofMap {
+  std::vector<int> eq;
+  int n_free = 0;
+  int n_dofs() const { return static_cast<int>(eq.size()); }
+  /// Numbers the free dofs node by node (the order keeps a node's three dofs together).
+  static DofMap from_constraints(int n_nodes, const std::vector<bool>& prescribed);
+};
+
+struct SymmetricPattern {
+  std::int64_t n = 0;
+  std::vector<std::int64_t> col_ptr;  ///< n + 1 entries
+  std::vector<std::int64_t> row;      ///< row indices (<= column), sorted within a column
+  std::int64_t nnz() const { return col_ptr.empty() ? 0 : col_ptr.back(); }
+  /// Position of entry (i, j) with i <= j, or -1 when not in the pattern.
+  std::int64_t find(std::int64_t i, std::int64_t j) const;
+};
+
+/// Pattern of the free dofs coupled through the cells. Runs in parallel over nodes.
+SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs);
+
+/// Cells grouped so that no two cells of a group share a node: each group can be assembled in
+/// parallel without locks or atomics.
+std::vector<std::vector<int>> color_cells(const CellSet& cells, int n_nodes);
+
+}  // namespace hencky

@@ -1,0 +1,361 @@
+#include "solve/model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "fem/geometry.hpp"
+#include "fem/reference_element.hpp"
+#include "io/suggest.hpp"
+
+namespace hencky {
+
+ElasticConstants MaterialModel::at(double T, bool* outside) const {
+  ElasticConstants c;
+  bool out_e = false, out_nu = false, out_a = false;
+  c.E = spec->E(T, &out_e);
+  c.nu = spec->nu(T, &out_nu);
+  c.alpha = spec->alpha(T, &out_a);
+  if (outside) *outside = out_e || out_nu || out_a;
+  return c;
+}
+
+void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
+  for (const PropertyTable* p : {&spec->E, &spec->nu, &spec->alpha}) {
+    if (p->is_constant()) continue;
+    if (T_min < p->temperature.front() || T_max > p->temperature.back())
+      log.warn(fmt::format("material '{}': temperatures {:g} .. {:g} leave the table of '{}' "
+                           "({:g} .. {:g}); the end values are used outside it",
+                           spec->name, T_min, T_max, p->where.key, p->temperature.front(),
+                           p->temperature.back()));
+  }
+}
+
+Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(mesh)) {
+  reference_temperature_ = c.temperature.given ? c.temperature.reference : 0.0;
+  bind_materials(log);
+  check_cells();
+  bind_boundary();
+  bind_temperature();
+  bind_outputs();
+  point_offset_.assign(mesh_.cells.size() + 1, 0);
+  for (int e = 0; e < mesh_.cells.size(); ++e)
+    point_offset_[e + 1] = point_offset_[e] + reference_table(mesh_.cells.type[e]).n_points;
+  assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+}
+
+const Region& Model::find_region(const std::string& name, const SourceLocation& where,
+                                 int dim_min, int dim_max, const char* what) const {
+  std::vector<std::string> names;
+  for (const auto& r : mesh_.regions)
+    if (r.dim >= dim_min && r.dim <= dim_max) {
+      if (r.name == name) return r;
+      names.push_back(r.name);
+    }
+  std::string msg = fmt::format("region '{}' is not a {} of the mesh {}", name, what,
+                                case_->mesh.file.filename().string());
+  if (const Region* other = mesh_.find_region(name))
+    msg += fmt::format(" (it is a {}D physical group)", other->dim);
+  throw InputError(where, msg + "; " + suggestion(name, names, std::string(what) + "s"));
+}
+
+void Model::bind_materials(Log& log) {
+  const auto& specs = case_->materials;
+  cell_material_.assign(mesh_.cells.size(), -1);
+  for (std::size_t m = 0; m < specs.size(); ++m) {
+    materials_.push_back(MaterialModel{&specs[m]});
+    if (specs[m].regions.empty()) {
+      std::fill(cell_material_.begin(), cell_material_.end(), static_cast<int>(m));
+      continue;
+    }
+    for (std::size_t k = 0; k < specs[m].regions.size(); ++k) {
+      const Region& r = find_region(specs[m].regions[k], specs[m].region_where[k], 3, 3,
+                                    "physical volume");
+      for (int cell : r.cells) {
+        if (cell_material_[cell] >= 0 && cell_material_[cell] != static_cast<int>(m))
+          throw InputError(specs[m].region_where[k],
+                           fmt::format("region '{}' already has material '{}'", r.name,
+                                       specs[cell_material_[cell]].name));
+        cell_material_[cell] = static_cast<int>(m);
+      }
+    }
+  }
+  const auto it = std::find(cell_material_.begin(), cell_material_.end(), -1);
+  if (it != cell_material_.end()) {
+    const int cell = static_cast<int>(it - cell_material_.begin());
+    const int n = static_cast<int>(std::count(cell_material_.begin(), cell_material_.end(), -1));
+    const int region = mesh_.cell_region[cell];
+    throw InputError(specs.front().where,
+                     fmt::format("{} elements have no material, e.g. element {} of region '{}'; "
+                                 "list every physical volume under some material's 'regions'",
+                                 n, mesh_.cells.tag[cell],
+                                 region >= 0 ? mesh_.regions[region].name : "(none)"));
+  }
+  // Tables over temperature need a temperature.
+  if (!case_->temperature.given)
+    for (const auto& m : specs)
+      for (const PropertyTable* p : {&m.E, &m.nu, &m.alpha})
+        if (!p->is_constant())
+          throw InputError(p->where, "a table over temperature needs a 'temperature' section "
+                                     "(with its 'reference') in the case");
+  (void)log;
+}
+
+void Model::check_cells() {
+  // Every integration point and every corner must map with a positive Jacobian.
+  double dNdx[3 * max_cell_nodes];
+  std::vector<Vec3> x(max_cell_nodes);
+  for (int e = 0; e < mesh_.cells.size(); ++e) {
+    const auto nodes = mesh_.cells.nodes(e);
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+    const auto& t = reference_table(mesh_.cells.type[e]);
+    std::span<const Vec3> xs(x.data(), nodes.size());
+    double det_min = INFINITY, det_max = 0;
+    for (int q = 0; q < t.n_points; ++q) {
+      const double det = physical_gradients(t, q, xs, dNdx);
+      det_min = std::min(det_min, det);
+      det_max = std::max(det_max, det);
+    }
+    if (!(det_min > 1e-12 * det_max) || !(det_max > 0) || !std::isfinite(det_min)) {
+      Vec3 centre = Vec3::Zero();
+      for (auto& p : xs) centre += p / static_cast<double>(xs.size());
+      throw InputError(
+          SourceLocation{case_->mesh.file.string(), 0, 0, "mesh.file"},
+          fmt::format("element {} ({}) near ({:g}, {:g}, {:g}) is {}: its Jacobian determinant "
+                      "is {:.3g} at an integration point; fix the mesh (Gmsh: Mesh > Inspect)",
+                      mesh_.cells.tag[e], cell_name(mesh_.cells.type[e]), centre.x(), centre.y(),
+                      centre.z(), det_min < 0 ? "inverted" : "degenerate", det_min));
+    }
+  }
+}
+
+namespace {
+/// node -> cells incidence
+void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
+                         std::vector<int>& idx) {
+  ptr.assign(n_nodes + 1, 0);
+  for (int n : cells.conn) ++ptr[n + 1];
+  for (int i = 0; i < n_nodes; ++i) ptr[i + 1] += ptr[i];
+  idx.resize(ptr.back());
+  std::vector<int> fill(ptr.begin(), ptr.end() - 1);
+  for (int c = 0; c < cells.size(); ++c)
+    for (int n : cells.nodes(c)) idx[fill[n]++] = c;
+}
+}  // namespace
+
+void Model::bind_boundary() {
+  const auto& bcs = case_->boundary;
+  std::vector<bool> prescribed(3 * static_cast<std::size_t>(mesh_.n_nodes()), false);
+  std::vector<int> nc_ptr, nc_idx;
+  node_cell_incidence(mesh_.cells, mesh_.n_nodes(), nc_ptr, nc_idx);
+
+  for (std::size_t b = 0; b < bcs.size(); ++b) {
+    const BoundarySpec& bc = bcs[b];
+    if (bc.kind == BoundaryKind::displacement) {
+      const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
+      for (int n : r.nodes)
+        for (int d = 0; d < 3; ++d)
+          if (bc.components[d]) {
+            prescribed[3 * n + d] = true;
+            prescribed_.push_back({3 * n + d, &*bc.components[d]});
+          }
+      continue;
+    }
+    const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
+    if (r.cells.empty())
+      throw InputError(bc.where, fmt::format("region '{}' has no faces to load", r.name));
+    double area = 0;
+    for (int f : r.cells) {
+      const auto nodes = mesh_.faces.nodes(f);
+      const CellType ft = mesh_.faces.type[f];
+      std::vector<Vec3> x(nodes.size());
+      for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+      const auto& t = reference_table(ft);
+      Vec3 normal = Vec3::Zero();
+      for (int q = 0; q < t.n_points; ++q) {
+        const Vec3 nq = face_normal(t, q, x);
+        normal += nq * t.weights[q];
+        area += nq.norm() * t.weights[q];
+      }
+      // The volume cell that owns the face: it holds all the face's corner nodes.
+      const int n_corners = cell_n_corners(ft);
+      int owner = -1, n_owners = 0;
+      for (int k = nc_ptr[nodes[0]]; k < nc_ptr[nodes[0] + 1]; ++k) {
+        const int c = nc_idx[k];
+        const auto cn = mesh_.cells.nodes(c);
+        bool all = true;
+        for (int a = 1; a < n_corners && all; ++a)
+          all = std::find(cn.begin(), cn.end(), nodes[a]) != cn.end();
+        if (all) {
+          owner = c;
+          ++n_owners;
+        }
+      }
+      if (n_owners != 1)
+        throw InputError(bc.where,
+                         fmt::format("face {} of region '{}' is {}; a {} must be applied on the "
+                                     "outer surface of the body",
+                                     mesh_.faces.tag[f], r.name,
+                                     n_owners == 0 ? "not a face of any volume element"
+                                                   : "inside the body (between two elements)",
+                                     to_string(bc.kind)));
+      Vec3 cell_centre = Vec3::Zero(), face_centre = Vec3::Zero();
+      const auto cn = mesh_.cells.nodes(owner);
+      for (int n : cn) cell_centre += mesh_.x[n] / static_cast<double>(cn.size());
+      for (int n : nodes) face_centre += mesh_.x[n] / static_cast<double>(nodes.size());
+      const double sign = normal.dot(face_centre - cell_centre) >= 0 ? 1.0 : -1.0;
+      face_loads_.push_back({f, static_cast<int>(b), sign, 1.0});
+    }
+    if (bc.kind == BoundaryKind::force) {
+      if (!(area > 0))
+        throw InputError(bc.where, fmt::format("region '{}' has zero area", r.name));
+      for (auto it = face_loads_.end() - r.cells.size(); it != face_loads_.end(); ++it)
+        it->scale = 1.0 / area;
+    }
+  }
+  bool any = false;
+  for (bool p : prescribed) any = any || p;
+  if (!any)
+    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                     "no displacement condition: the body is free to move as a rigid body; "
+                     "prescribe displacements on some region");
+  dofs_ = DofMap::from_constraints(mesh_.n_nodes(), prescribed);
+  if (dofs_.n_free == 0)
+    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                     "every degree of freedom is prescribed: there is nothing to solve");
+}
+
+void Model::bind_temperature() {
+  const auto& ts = case_->temperature;
+  if (!ts.file) return;
+  const TemperatureFile& tf = *ts.file;
+  std::unordered_map<long, int> row_of_tag;
+  for (std::size_t r = 0; r < tf.node_tags.size(); ++r) row_of_tag.emplace(tf.node_tags[r], r);
+  temperature_row_.resize(mesh_.n_nodes());
+  int n_missing = 0;
+  long first_missing = 0;
+  for (int n = 0; n < mesh_.n_nodes(); ++n) {
+    auto it = row_of_tag.find(mesh_.node_tag[n]);
+    if (it == row_of_tag.end()) {
+      if (n_missing++ == 0) first_missing = mesh_.node_tag[n];
+      continue;
+    }
+    temperature_row_[n] = it->second;
+  }
+  if (n_missing > 0)
+    throw InputError(SourceLocation{tf.path.string(), 0, 0, "temperature.field.file"},
+                     fmt::format("{} nodes of the mesh have no temperature in this file, e.g. "
+                                 "Gmsh node {}",
+                                 n_missing, first_missing));
+}
+
+void Model::bind_outputs() {
+  const auto& out = case_->output;
+  for (const auto& p : out.probes) {
+    Probe probe{&p, -1, {0, 0, 0}};
+    std::vector<Vec3> x(max_cell_nodes);
+    for (int e = 0; e < mesh_.cells.size() && probe.cell < 0; ++e) {
+      const auto nodes = mesh_.cells.nodes(e);
+      Vec3 lo = mesh_.x[nodes[0]], hi = lo;
+      for (int n : nodes) {
+        lo = lo.cwiseMin(mesh_.x[n]);
+        hi = hi.cwiseMax(mesh_.x[n]);
+      }
+      const double pad = 1e-9 * (hi - lo).norm();
+      if ((p.point.array() < lo.array() - pad).any() || (p.point.array() > hi.array() + pad).any())
+        continue;
+      for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+      if (locate_in_cell(mesh_.cells.type[e], std::span<const Vec3>(x.data(), nodes.size()),
+                         p.point, 1e-8, probe.xi))
+        probe.cell = e;
+    }
+    if (probe.cell < 0)
+      throw InputError(p.where, fmt::format("probe '{}' at ({:g}, {:g}, {:g}) is outside the mesh",
+                                            p.name, p.point.x(), p.point.y(), p.point.z()));
+    probes_.push_back(probe);
+  }
+  for (std::size_t k = 0; k < out.reactions.size(); ++k) {
+    const Region& r = find_region(out.reactions[k], out.reaction_where[k], 0, 3, "region");
+    bool any = false;
+    for (int n : r.nodes)
+      for (int d = 0; d < 3; ++d) any = any || dofs_.eq[3 * n + d] < 0;
+    if (!any)
+      throw InputError(out.reaction_where[k],
+                       fmt::format("region '{}' has no prescribed displacement, so it carries no "
+                                   "reaction",
+                                   r.name));
+    reactions_.push_back({r.name, &r});
+  }
+}
+
+void Model::nodal_temperature(double t, std::vector<double>& T) const {
+  const auto& ts = case_->temperature;
+  T.resize(mesh_.n_nodes());
+  if (ts.file) {
+    for (int n = 0; n < mesh_.n_nodes(); ++n) T[n] = ts.file->at(temperature_row_[n], t);
+  } else if (ts.field) {
+    for (int n = 0; n < mesh_.n_nodes(); ++n) {
+      const Vec3& x = mesh_.x[n];
+      T[n] = ts.field->eval_checked(x.x(), x.y(), x.z(), t, "temperature");
+    }
+  } else {
+    std::fill(T.begin(), T.end(), reference_temperature_);
+  }
+}
+
+void Model::prescribed_displacement(double t, std::vector<double>& u) const {
+  for (const auto& p : prescribed_) {
+    const Vec3& x = mesh_.x[p.dof / 3];
+    u[p.dof] = p.value->eval_checked(x.x(), x.y(), x.z(), t, "displacement");
+  }
+}
+
+void Model::external_forces(double t, std::vector<double>& f) const {
+  f.assign(3 * static_cast<std::size_t>(mesh_.n_nodes()), 0.0);
+  std::vector<Vec3> x(max_cell_nodes);
+  for (const FaceLoad& load : face_loads_) {
+    const BoundarySpec& bc = case_->boundary[load.boundary];
+    const auto nodes = mesh_.faces.nodes(load.face);
+    const auto& tab = reference_table(mesh_.faces.type[load.face]);
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+    const std::span<const Vec3> xs(x.data(), nodes.size());
+    for (int q = 0; q < tab.n_points; ++q) {
+      const Vec3 n_da = face_normal(tab, q, xs) * (load.sign * tab.weights[q]);  // outward n dA
+      const Vec3 p = point_position(tab, q, xs);
+      Vec3 traction;
+      if (bc.kind == BoundaryKind::pressure) {
+        traction = -bc.pressure->eval_checked(p.x(), p.y(), p.z(), t, "pressure") * n_da;
+      } else {
+        for (int d = 0; d < 3; ++d)
+          traction[d] = bc.components[d]->eval_checked(p.x(), p.y(), p.z(), t, to_string(bc.kind));
+        traction *= load.scale * n_da.norm();
+      }
+      const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+      for (std::size_t a = 0; a < nodes.size(); ++a)
+        for (int d = 0; d < 3; ++d) f[3 * nodes[a] + d] += N[a] * traction[d];
+    }
+  }
+  if (case_->body_force) {
+    const auto& b = *case_->body_force;
+    double dNdx[3 * max_cell_nodes];
+    for (int e = 0; e < mesh_.cells.size(); ++e) {
+      const auto nodes = mesh_.cells.nodes(e);
+      const auto& tab = reference_table(mesh_.cells.type[e]);
+      for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+      const std::span<const Vec3> xs(x.data(), nodes.size());
+      for (int q = 0; q < tab.n_points; ++q) {
+        const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
+        const Vec3 p = point_position(tab, q, xs);
+        Vec3 bq;
+        for (int d = 0; d < 3; ++d) bq[d] = b[d].eval_checked(p.x(), p.y(), p.z(), t, "body_force");
+        const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+        for (std::size_t a = 0; a < nodes.size(); ++a)
+          for (int d = 0; d < 3; ++d) f[3 * nodes[a] + d] += N[a] * bq[d] * dv;
+      }
+    }
+  }
+}
+
+}  // namespace hencky

@@ -1,0 +1,95 @@
+#pragma once
+// The analysis model: the validated case bound to the mesh. Everything here is checked
+// against the mesh once (regions, materials, element shapes, probes, temperature nodes) so
+// that the step loop meets no input error.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/case.hpp"
+#include "io/log.hpp"
+#include "linalg/assembler.hpp"
+#include "material/elastic.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hencky {
+
+struct MaterialModel {
+  const MaterialSpec* spec;
+  /// E, ν, α at temperature T; *outside is set when T leaves a property's table. Thread-safe.
+  ElasticConstants at(double T, bool* outside = nullptr) const;
+  /// Warns (once per message) when [T_min, T_max] leaves a property's table.
+  void warn_outside(double T_min, double T_max, Log& log) const;
+};
+
+/// A boundary face loaded by pressure, traction or force.
+struct FaceLoad {
+  int face;             ///< index into Mesh::faces
+  int boundary;         ///< index into Case::boundary
+  double sign;          ///< +1 when the face's own normal points out of the body, else -1
+  double scale = 1.0;   ///< 1 / region area for a total force, else 1
+};
+
+struct Probe {
+  const ProbeSpec* spec;
+  int cell;
+  double xi[3];
+};
+
+struct ReactionRegion {
+  std::string name;
+  const Region* region;
+};
+
+class Model {
+ public:
+  /// Binds the case to the mesh; throws InputError for everything that does not fit.
+  Model(const Case& c, Mesh mesh, Log& log);
+
+  const Case& spec() const { return *case_; }
+  const Mesh& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return dofs_; }
+  const Assembler& assembler() const { return *assembler_; }
+  int n_points() const { return point_offset_.back(); }
+  int point_offset(int cell) const { return point_offset_[cell]; }
+  const MaterialModel& material_of(int cell) const { return materials_[cell_material_[cell]]; }
+  int material_index(int cell) const { return cell_material_[cell]; }
+  const std::vector<MaterialModel>& materials() const { return materials_; }
+  const std::vector<Probe>& probes() const { return probes_; }
+  const std::vector<ReactionRegion>& reaction_regions() const { return reactions_; }
+  double reference_temperature() const { return reference_temperature_; }
+  bool has_temperature() const { return case_->temperature.given; }
+
+  /// Nodal temperature at time t (T_ref everywhere without a temperature section).
+  void nodal_temperature(double t, std::vector<double>& T) const;
+  /// Prescribed displacement at time t written into the prescribed entries of u (3 per node).
+  void prescribed_displacement(double t, std::vector<double>& u) const;
+  /// External nodal forces at time t (pressure, traction, force, body force), 3 per node.
+  void external_forces(double t, std::vector<double>& f) const;
+
+ private:
+  void bind_materials(Log& log);
+  void check_cells();
+  void bind_boundary();
+  void bind_temperature();
+  void bind_outputs();
+  const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
+                            int dim_max, const char* what) const;
+
+  const Case* case_;
+  Mesh mesh_;
+  std::vector<MaterialModel> materials_;
+  std::vector<int> cell_material_;
+  std::vector<int> point_offset_;
+  DofMap dofs_;
+  std::unique_ptr<Assembler> assembler_;
+  struct PrescribedDof { int dof; const Expression* value; };
+  std::vector<PrescribedDof> prescribed_;
+  std::vector<FaceLoad> face_loads_;
+  std::vector<Probe> probes_;
+  std::vector<ReactionRegion> reactions_;
+  std::vector<int> temperature_row_;  ///< row of the temperature file for each node
+  double reference_temperature_ = 0;
+};
+
+}  // namespace hencky
