@@ -12,11 +12,10 @@
 
 #include "hencky/version.hpp"
 #include "io/case.hpp"
-#include "io/gmsh_reader.hpp"
 #include "io/log.hpp"
 #include "io/results.hpp"
 #include "solve/analysis.hpp"
-#include "solve/model.hpp"
+#include "solve/driver.hpp"
 
 namespace {
 using namespace hencky;
@@ -30,52 +29,18 @@ long peak_memory_bytes() {
   return static_cast<long>(u.ru_maxrss) * 1024;
 }
 
-struct Loaded {
-  Case c;
-  std::unique_ptr<Model> model;
-  double mesh_seconds = 0, setup_seconds = 0;
-};
-
-Loaded load(const std::string& case_path, Log& log) {
-  Loaded l{read_case(case_path), nullptr};
-  auto t0 = Clock::now();
-  MeshReadOptions opt;
-  opt.order = l.c.mesh.order;
-  opt.scale = l.c.mesh.scale;
-  std::vector<std::string> gmsh_log;
-  Mesh mesh = read_gmsh(l.c.mesh.file, opt, &gmsh_log);
-  for (const auto& line : gmsh_log)
-    if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
-  l.mesh_seconds = since(t0);
-  t0 = Clock::now();
-  l.model = std::make_unique<Model>(l.c, std::move(mesh), log);
-  l.setup_seconds = since(t0);
-  return l;
-}
-
-std::string describe_mesh(const Mesh& mesh) {
-  std::map<std::string, int> by_type;
-  for (auto t : mesh.cells.type) ++by_type[std::string(cell_name(t))];
-  std::string s = fmt::format("{} nodes, {} elements (", mesh.n_nodes(), mesh.cells.size());
-  bool first = true;
-  for (auto& [name, n] : by_type) {
-    s += fmt::format("{}{} {}", first ? "" : ", ", n, name);
-    first = false;
-  }
-  return s + ")";
-}
-
 int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   const auto t_start = Clock::now();
   Log log;
   log.quiet = quiet;
-  Loaded l = load(case_path, log);
+  LoadedCase l = load_case(case_path, log);
   const Model& model = *l.model;
-  const fs::path dir = out_dir.empty() ? l.c.output.dir : fs::absolute(out_dir);
-  log.info("hencky {}: {}", HENCKY_VERSION, l.c.title);
+  const Case& c = *l.spec;
+  const fs::path dir = out_dir.empty() ? c.output.dir : fs::absolute(out_dir);
+  log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
 
-  auto solver = make_linear_solver(l.c.solver.linear == SolverSpec::Linear::iterative
+  auto solver = make_linear_solver(c.solver.linear == SolverSpec::Linear::iterative
                                        ? LinearSolverKind::iterative
                                        : LinearSolverKind::direct);
   ResultWriter writer(model, dir, log);
@@ -91,7 +56,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   const auto& st = solver->stats();
   nlohmann::json summary;
   summary["hencky"] = HENCKY_VERSION;
-  summary["title"] = l.c.title;
+  summary["title"] = c.title;
   summary["status"] = result.status == AnalysisStatus::converged ? "converged" : "not-converged";
   if (!result.failure.empty()) summary["failure"] = result.failure;
   summary["steps"] = result.steps;
@@ -127,10 +92,10 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
 
 int check(const std::string& case_path) {
   Log log;
-  Loaded l = load(case_path, log);
+  LoadedCase l = load_case(case_path, log);
   const Model& m = *l.model;
   std::cout << fmt::format("{}: ok\n  mesh: {}\n  unknowns: {}\n  steps: {}\n", case_path,
-                           describe_mesh(m.mesh()), m.dofs().n_free, l.c.solver.times.size());
+                           describe_mesh(m.mesh()), m.dofs().n_free, l.spec->solver.times.size());
   std::cout << "  regions:";
   for (const auto& r : m.mesh().regions) std::cout << fmt::format(" {} ({}D)", r.name, r.dim);
   std::cout << "\n";

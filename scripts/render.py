@@ -171,11 +171,12 @@ def main():
     else:
         display.SetScalarBarVisibility(view, True)
         bar = simple.GetScalarBar(lut, view)
+        # Plain text only: ParaView 5.11's colour bar title shows "[" as "(" and drops "|".
         title = args.field
         if n_comp > 1:
-            title += "[%d]" % args.component if args.component is not None else " (magnitude)"
+            title += " component %d" % args.component if args.component is not None else " magnitude"
         if args.units:
-            title += " [%s]" % args.units
+            title += " (%s)" % args.units
         bar.Title = title
         bar.ComponentTitle = ""
         bar.TitleColor = [0.0, 0.0, 0.0]
@@ -221,4 +222,8 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # No sys.exit() on success: raising SystemExit while the render window is alive makes
+    # ParaView 5.11 fail with "X Error ... GLXBadContext" at exit (status 1).
+    status = main()
+    if status:
+        sys.exit(status)

@@ -1,6 +1,7 @@
 #include "io/gmsh_reader.hpp"
 
 #include <gmsh.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <map>
@@ -43,7 +44,7 @@ std::string gmsh_type_name(int gmsh_type) {
 std::mutex gmsh_mutex;
 
 struct GmshSession {
-  explicit GmshSession(std::vector<std::string>* log) : log_(log) {
+  explicit GmshSession(std::vector<std::string>* log) : log_(log), threads_(omp_get_max_threads()) {
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 3);
@@ -60,8 +61,10 @@ struct GmshSession {
       gmsh::finalize();
     } catch (...) {
     }
+    omp_set_num_threads(threads_);  // Gmsh sets the OpenMP thread count to its own option
   }
   std::vector<std::string>* log_;
+  int threads_;
 };
 
 std::string last_gmsh_error() {

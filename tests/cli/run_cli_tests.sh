@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# End-to-end tests of the command line: exit statuses, messages and outputs of the contract.
+# Usage: run_cli_tests.sh HENCKY_BINARY SOURCE_DIR
+set -u
+bin="$1"; src="$2"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+pass=0; fail=0
+ok()   { pass=$((pass+1)); echo "ok   $1"; }
+bad()  { fail=$((fail+1)); echo "FAIL $1"; [ -n "${2:-}" ] && echo "$2" | sed 's/^/     /'; }
+
+# expect NAME STATUS PATTERN -- ARGS... : runs the binary, checks exit status and that the
+# combined output matches the extended regular expression.
+expect() {
+  local name="$1" status="$2" pattern="$3"; shift 4
+  local out rc
+  out="$("$bin" "$@" 2>&1)"; rc=$?
+  if [ "$rc" -ne "$status" ]; then bad "$name: exit $rc, expected $status" "$out"; return; fi
+  if [ -n "$pattern" ] && ! grep -Eq -- "$pattern" <<<"$out"; then
+    bad "$name: output does not match /$pattern/" "$out"; return
+  fi
+  ok "$name"
+}
+
+for f in "$src"/tests/cli/cases/*.sh; do
+  [ -e "$f" ] || continue
+  # shellcheck disable=SC1090
+  . "$f"
+done
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
