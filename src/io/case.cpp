@@ -47,10 +47,14 @@ double TemperatureFile::at(std::size_t row, double t) const {
 
 const char* to_string(BoundaryKind kind) {
   switch (kind) {
-    case BoundaryKind::displacement: return "displacement";
-    case BoundaryKind::pressure: return "pressure";
-    case BoundaryKind::traction: return "traction";
-    case BoundaryKind::force: return "force";
+    case BoundaryKind::displacement:
+      return "displacement";
+    case BoundaryKind::pressure:
+      return "pressure";
+    case BoundaryKind::traction:
+      return "traction";
+    case BoundaryKind::force:
+      return "force";
   }
   return "?";
 }
@@ -60,12 +64,12 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Keys of every map in the case file. Later versions' keys are known (never "unknown key").
 
-const std::vector<std::string> top_keys = {"title",    "mesh",     "materials",
+const std::vector<std::string> top_keys = {"title",       "mesh",     "materials",
                                            "temperature", "boundary", "body_force",
-                                           "contact",  "solver",   "output"};
+                                           "contact",     "solver",   "output"};
 const std::vector<std::string> mesh_keys = {"file", "order", "scale"};
-const std::vector<std::string> material_keys = {"name", "regions", "E", "nu", "alpha",
-                                                "plasticity"};
+const std::vector<std::string> material_keys = {"name", "regions", "E",
+                                                "nu",   "alpha",   "plasticity"};
 const std::vector<std::string> table_keys = {"temperature", "value"};
 const std::vector<std::string> temperature_keys = {"reference", "field"};
 const std::vector<std::string> field_file_keys = {"file"};
@@ -73,18 +77,14 @@ const std::vector<std::string> boundary_keys = {"region", "displacement", "press
                                                 "force"};
 const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force"};
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
-const std::vector<std::string> solver_keys = {"scheme",     "curve_form", "steps",
-                                              "end",        "times",      "max_iterations",
-                                              "tolerance",  "relaxation", "correction",
-                                              "cutback",    "linear"};
+const std::vector<std::string> solver_keys = {
+    "scheme",    "curve_form", "steps",      "end",     "times", "max_iterations",
+    "tolerance", "relaxation", "correction", "cutback", "linear"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
-const std::vector<std::string> schemes = {"newton",
-                                          "variable-stiffness",
-                                          "initial-strain",
-                                          "initial-strain-stiffness",
-                                          "initial-stress",
-                                          "initial-stress-stiffness"};
+const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
+                                          "initial-strain", "initial-strain-stiffness",
+                                          "initial-stress", "initial-stress-stiffness"};
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
 
@@ -93,10 +93,10 @@ struct Section {
   const std::vector<std::string>* keys;
 };
 const Section sections[] = {
-    {"the top level", &top_keys},        {"mesh", &mesh_keys},
-    {"materials[i]", &material_keys},    {"temperature", &temperature_keys},
-    {"boundary[i]", &boundary_keys},     {"boundary[i].displacement", &xyz_keys},
-    {"solver", &solver_keys},            {"output", &output_keys},
+    {"the top level", &top_keys},      {"mesh", &mesh_keys},
+    {"materials[i]", &material_keys},  {"temperature", &temperature_keys},
+    {"boundary[i]", &boundary_keys},   {"boundary[i].displacement", &xyz_keys},
+    {"solver", &solver_keys},          {"output", &output_keys},
     {"output.probes[i]", &probe_keys},
 };
 
@@ -165,14 +165,17 @@ std::string index_path(const std::string& parent, std::size_t i) {
 /// What a node is, for "found ..." in messages.
 std::string describe(const YAML::Node& n) {
   switch (n.Type()) {
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Map: return "a map";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
     case YAML::NodeType::Scalar: {
       std::string s = n.Scalar();
       if (s.size() > 60) s = s.substr(0, 57) + "...";
       return "'" + s + "'";
     }
-    default: return "nothing";
+    default:
+      return "nothing";
   }
 }
 
@@ -201,7 +204,9 @@ class Reader {
     return w;
   }
   SourceLocation at(const Val& v) const { return at(v.mark, v.path); }
-  [[noreturn]] void fail(const Val& v, const std::string& msg) const { throw InputError(at(v), msg); }
+  [[noreturn]] void fail(const Val& v, const std::string& msg) const {
+    throw InputError(at(v), msg);
+  }
 
   double number(const Val& v) const {
     if (!v.node.IsScalar()) fail(v, "expected a number, found " + describe(v.node));
@@ -214,14 +219,17 @@ class Reader {
   long integer(const Val& v) const {
     if (!v.node.IsScalar()) fail(v, "expected a whole number, found " + describe(v.node));
     long x = 0;
-    if (!parse_long(v.node.Scalar(), x)) fail(v, "expected a whole number, found " + describe(v.node));
+    if (!parse_long(v.node.Scalar(), x))
+      fail(v, "expected a whole number, found " + describe(v.node));
     return x;
   }
 
   int integer_at_least(const Val& v, long min) const {
     const long x = integer(v);
-    if (x < min) fail(v, "expected a whole number >= " + std::to_string(min) + ", found " + std::to_string(x));
-    if (x > 1000000000L) fail(v, "expected a whole number <= 1000000000, found " + std::to_string(x));
+    if (x < min)
+      fail(v, "expected a whole number >= " + std::to_string(min) + ", found " + std::to_string(x));
+    if (x > 1000000000L)
+      fail(v, "expected a whole number <= 1000000000, found " + std::to_string(x));
     return static_cast<int>(x);
   }
 
@@ -232,7 +240,8 @@ class Reader {
   }
 
   std::string string(const Val& v, const char* what = "a name") const {
-    if (!v.node.IsScalar()) fail(v, std::string("expected ") + what + ", found " + describe(v.node));
+    if (!v.node.IsScalar())
+      fail(v, std::string("expected ") + what + ", found " + describe(v.node));
     std::string s = trim(v.node.Scalar());
     if (s.empty()) fail(v, std::string("expected ") + what + ", found an empty string");
     return s;
@@ -282,7 +291,8 @@ class Reader {
     return items;
   }
 
-  std::string choice(const Val& v, const std::vector<std::string>& options, const char* what) const {
+  std::string choice(const Val& v, const std::vector<std::string>& options,
+                     const char* what) const {
     const std::string s = string(v, "a name");
     if (std::find(options.begin(), options.end(), s) != options.end()) return s;
     fail(v, "unknown " + std::string(what) + " '" + s + "'; " +
@@ -317,7 +327,8 @@ class Map {
       if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
         std::string msg = "unknown key '" + name + "'";
         const std::string hint = did_you_mean(name, allowed);
-        if (!hint.empty()) msg += "; " + hint;
+        if (!hint.empty())
+          msg += "; " + hint;
         else if (auto other = belongs_elsewhere(name, &allowed); !other.empty())
           msg += "; " + other;
         msg += " (valid keys here: " + name_list(allowed) + ")";
@@ -397,10 +408,13 @@ void check_property(const Reader& r, const Val& v, Property p, const std::string
       break;
     case Property::nu:
       if (!(x > -1.0 && x < 0.5))
-        r.fail(v, what + " must satisfy -1 < nu < 0.5 (0.5 is incompressible, which this "
-                         "displacement formulation cannot solve), found " + num(x));
+        r.fail(v, what +
+                      " must satisfy -1 < nu < 0.5 (0.5 is incompressible, which this "
+                      "displacement formulation cannot solve), found " +
+                      num(x));
       break;
-    case Property::alpha: break;
+    case Property::alpha:
+      break;
   }
 }
 
@@ -469,26 +483,28 @@ std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has
         if (auto prev = region_owner.find(reg); prev != region_owner.end()) {
           if (prev->second == i) r.fail(rv, "region '" + reg + "' is listed twice");
           r.fail(rv, "region '" + reg + "' is already given to material '" +
-                         out[prev->second].name + "' (materials[" +
-                         std::to_string(prev->second) + "]); a region has one material");
+                         out[prev->second].name + "' (materials[" + std::to_string(prev->second) +
+                         "]); a region has one material");
         }
         mat.regions.push_back(reg);
         mat.region_where.push_back(r.at(rv));
         region_owner.emplace(reg, i);
       }
     } else if (items.size() > 1) {
-      r.fail(item, "material '" + mat.name + "' needs 'regions' (the Gmsh physical volumes it "
-                   "fills): it may be left out only when there is one material");
+      r.fail(item, "material '" + mat.name +
+                       "' needs 'regions' (the Gmsh physical volumes it "
+                       "fills): it may be left out only when there is one material");
     }
-    mat.E = read_property(r, m.require(r, "E", "Young's modulus in Pa, e.g. E: 2.1e11"),
-                          "E", Property::E);
-    mat.nu = read_property(r, m.require(r, "nu", "Poisson's ratio, e.g. nu: 0.3"), "nu",
-                           Property::nu);
+    mat.E = read_property(r, m.require(r, "E", "Young's modulus in Pa, e.g. E: 2.1e11"), "E",
+                          Property::E);
+    mat.nu =
+        read_property(r, m.require(r, "nu", "Poisson's ratio, e.g. nu: 0.3"), "nu", Property::nu);
     if (auto a = m.get("alpha")) {
       mat.alpha = read_property(r, *a, "alpha", Property::alpha);
     } else if (has_temperature) {
-      m.require(r, "alpha", "the thermal expansion coefficient in 1/K, e.g. alpha: 1.2e-5; "
-                            "it is required because the case has a temperature section");
+      m.require(r, "alpha",
+                "the thermal expansion coefficient in 1/K, e.g. alpha: 1.2e-5; "
+                "it is required because the case has a temperature section");
     } else {
       mat.alpha.value = {0.0};
       mat.alpha.where = mat.where;
@@ -511,10 +527,11 @@ std::vector<CsvCell> split_csv(const std::string& line) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    const std::string raw = line.substr(start, comma == std::string::npos ? std::string::npos
-                                                                          : comma - start);
+    const std::string raw =
+        line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const std::size_t lead = raw.find_first_not_of(" \t");
-    cells.push_back({trim(raw), static_cast<int>(start + (lead == std::string::npos ? 0 : lead)) + 1});
+    cells.push_back(
+        {trim(raw), static_cast<int>(start + (lead == std::string::npos ? 0 : lead)) + 1});
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
@@ -571,9 +588,10 @@ TemperatureFile read_temperature_csv(const Reader& r, const Val& v) {
       continue;
     }
     if (cells.size() != n_cols)
-      fail_at(line_no, 0, "expected " + std::to_string(n_cols) +
-                              " values (the node tag, then one per time), found " +
-                              std::to_string(cells.size()));
+      fail_at(line_no, 0,
+              "expected " + std::to_string(n_cols) +
+                  " values (the node tag, then one per time), found " +
+                  std::to_string(cells.size()));
     long tag = 0;
     if (!parse_long(cells[0].text, tag) || tag <= 0)
       fail_at(line_no, cells[0].column,
@@ -592,8 +610,11 @@ TemperatureFile read_temperature_csv(const Reader& r, const Val& v) {
       tf.values.push_back(T);
     }
   }
-  if (!header) fail_at(0, 0, "the temperature file is empty: expected 'node,<time 1>,...' then one row per node");
-  if (tf.node_tags.empty()) fail_at(line_no, 0, "the temperature file has a header but no node rows");
+  if (!header)
+    fail_at(0, 0,
+            "the temperature file is empty: expected 'node,<time 1>,...' then one row per node");
+  if (tf.node_tags.empty())
+    fail_at(line_no, 0, "the temperature file has a header but no node rows");
   return tf;
 }
 
@@ -602,15 +623,15 @@ TemperatureSpec read_temperature(const Reader& r, const Val& v) {
   TemperatureSpec t;
   t.given = true;
   t.where = r.at(v);
-  t.reference = r.number(m.require(
-      r, "reference",
-      "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20"));
+  t.reference = r.number(
+      m.require(r, "reference",
+                "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20"));
   const Val f = m.require(
       r, "field", "the temperature: a number, an expression in x, y, z, t or {file: temps.csv}");
   if (f.node.IsMap()) {
     Map fm(r, f, field_file_keys, "{file: temps.csv}");
-    t.file = read_temperature_csv(
-        r, fm.require(r, "file", "the CSV file with the nodal temperatures"));
+    t.file =
+        read_temperature_csv(r, fm.require(r, "file", "the CSV file with the nodal temperatures"));
   } else if (f.node.IsScalar()) {
     t.field = r.expression(f);
   } else {
@@ -666,8 +687,8 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
         const auto key = std::make_pair(b.region, k);
         if (auto prev = prescribed.find(key); prev != prescribed.end())
           r.fail(*comp, "the " + xyz_keys[k] + " displacement of region '" + b.region +
-                            "' is already prescribed by boundary[" +
-                            std::to_string(prev->second) + "]");
+                            "' is already prescribed by boundary[" + std::to_string(prev->second) +
+                            "]");
         prescribed.emplace(key, i);
       }
       if (!any) r.fail(c, "expected at least one of x, y, z, found an empty map");
@@ -697,9 +718,10 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   if (auto x = m.get("times")) {
     for (const char* k : {"steps", "end"})
       if (m.has(k))
-        throw InputError(r.at(m.key_mark(k), child_path(v->path, k)),
-                         std::string("give either 'times' or 'steps' and 'end', not both; found '") +
-                             k + "' with 'times'");
+        throw InputError(
+            r.at(m.key_mark(k), child_path(v->path, k)),
+            std::string("give either 'times' or 'steps' and 'end', not both; found '") + k +
+                "' with 'times'");
     const auto items = r.list(*x, "a list of step end times [t1, t2, ...]");
     if (items.empty()) r.fail(*x, "expected at least one time, found an empty list");
     s.times.clear();
@@ -726,7 +748,8 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   if (auto x = m.get("relaxation")) s.relaxation = r.positive(*x);
   if (auto x = m.get("correction")) {
     s.correction = r.number(*x);
-    if (s.correction < 0) r.fail(*x, "expected a number >= 0 (0 turns the correction off), found " + num(s.correction));
+    if (s.correction < 0)
+      r.fail(*x, "expected a number >= 0 (0 turns the correction off), found " + num(s.correction));
   }
   if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
   if (auto x = m.get("linear")) {
@@ -762,8 +785,10 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
       const Val name = pm.require(r, "name", "the probe's name, used in history.csv");
       p.name = r.string(name);
       if (!valid_probe_name(p.name))
-        r.fail(name, "probe names may use letters, digits, '_' and '-' only (they become column "
-                     "names), found '" + p.name + "'");
+        r.fail(name,
+               "probe names may use letters, digits, '_' and '-' only (they become column "
+               "names), found '" +
+                   p.name + "'");
       if (auto prev = names.find(p.name); prev != names.end())
         r.fail(name, "probe name '" + p.name + "' is already used by output.probes[" +
                          std::to_string(prev->second) + "]");
@@ -785,8 +810,9 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
       if (std::find(o.reactions.begin(), o.reactions.end(), reg) != o.reactions.end())
         r.fail(item, "region '" + reg + "' is listed twice");
       if (std::find(fixed.begin(), fixed.end(), reg) == fixed.end())
-        r.fail(item, "region '" + reg + "' has no displacement condition; reactions are "
-                     "reported for regions with prescribed displacement. " +
+        r.fail(item, "region '" + reg +
+                         "' has no displacement condition; reactions are "
+                         "reported for regions with prescribed displacement. " +
                          suggestion(reg, fixed, "regions with a displacement condition"));
       o.reactions.push_back(reg);
       o.reaction_where.push_back(r.at(item));
@@ -847,20 +873,30 @@ Case read_case(const fs::path& case_file) {
   if (top_mark.line < 0) top_mark = YAML::Mark();
   const Val top_val{root, "", top_mark};
   if (!root.IsMap())
-    r.fail(top_val, "expected a map of keys (" + name_list(top_keys) + ") at the top level, found " +
-                        describe(root));
+    r.fail(top_val, "expected a map of keys (" + name_list(top_keys) +
+                        ") at the top level, found " + describe(root));
 
   try {
     const Map top(r, top_val, top_keys);
     if (auto x = top.get("contact"))
-      r.fail(*x, "contact is not available in this version of hencky (0.1 solves thermo-elastic "
-                 "problems without contact); remove 'contact'");
+      r.fail(*x,
+             "contact is not available in this version of hencky (0.1 solves thermo-elastic "
+             "problems without contact); remove 'contact'");
     c.title = top.has("title") ? r.string(*top.get("title"), "a title") : c.file.stem().string();
     c.mesh = read_mesh(r, top.require(r, "mesh", "the mesh, e.g. mesh: {file: part.msh}"));
-    c.materials = read_materials(
-        r, top.require(r, "materials", "a list of materials with E, nu and alpha"),
-        top.has("temperature"));
-    if (auto x = top.get("temperature")) c.temperature = read_temperature(r, *x);
+    c.materials =
+        read_materials(r, top.require(r, "materials", "a list of materials with E, nu and alpha"),
+                       top.has("temperature"));
+    if (auto x = top.get("temperature")) {
+      c.temperature = read_temperature(r, *x);
+    } else {  // a table over temperature needs a temperature
+      for (const auto& m : c.materials)
+        for (const PropertyTable* p : {&m.E, &m.nu, &m.alpha})
+          if (!p->is_constant())
+            throw InputError(p->where,
+                             "a table over temperature needs a 'temperature' section "
+                             "(with its 'reference' and 'field')");
+    }
     if (auto x = top.get("boundary")) c.boundary = read_boundary(r, *x);
     if (auto x = top.get("body_force")) c.body_force = r.expression3(*x);
     c.solver = read_solver(r, top.get("solver"));

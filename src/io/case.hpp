@@ -51,9 +51,9 @@ struct TemperatureFile {
 };
 
 struct TemperatureSpec {
-  bool given = false;     ///< a temperature section is present
-  double reference = 0;   ///< T_ref, the stress-free temperature (required when given)
-  std::optional<Expression> field;      ///< T(x, y, z, t); exactly one of field / file is set
+  bool given = false;               ///< a temperature section is present
+  double reference = 0;             ///< T_ref, the stress-free temperature (required when given)
+  std::optional<Expression> field;  ///< T(x, y, z, t); exactly one of field / file is set
   std::optional<TemperatureFile> file;  ///< when given
   SourceLocation where;                 ///< the temperature section
 };
@@ -85,10 +85,10 @@ struct SolverSpec {
   std::string curve_form = "stress";  ///< stress | strain (variable-stiffness only)
   std::vector<double> times;  ///< end times of the steps, strictly increasing, > 0, not empty
   int max_iterations = 50;
-  double tolerance = 1e-6;   ///< 0 < tolerance < 1
-  double relaxation = 1.0;   ///< > 0
-  double correction = 1.0;   ///< >= 0; 0 turns the error correction off
-  int cutback = 4;           ///< >= 0
+  double tolerance = 1e-6;         ///< 0 < tolerance < 1
+  double relaxation = 1.0;         ///< > 0
+  double correction = 1.0;         ///< >= 0; 0 turns the error correction off
+  int cutback = 4;                 ///< >= 0
   Linear linear = Linear::direct;  ///< petsc is rejected in this version
 };
 

@@ -22,12 +22,14 @@ struct Expression::Compiled {
 
 namespace {
 
-double natural_log(double v) { return std::log(v); }
+double natural_log(double v) {
+  return std::log(v);
+}
 
 const std::vector<std::string>& known_names() {
   static const std::vector<std::string> names = {
-      "x", "y", "z", "t", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh",
-      "exp", "log", "ln", "log10", "sqrt", "abs", "min", "max", "_pi", "_e"};
+      "x",    "y",   "z",   "t",  "sin",   "cos",  "tan", "asin", "acos", "atan", "sinh", "cosh",
+      "tanh", "exp", "log", "ln", "log10", "sqrt", "abs", "min",  "max",  "_pi",  "_e"};
   return names;
 }
 
@@ -59,8 +61,8 @@ std::string format_double(double v) {
 std::size_t find_assignment(const std::string& s) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (s[i] != '=') continue;
-    const bool after_op = i > 0 && (s[i - 1] == '=' || s[i - 1] == '<' || s[i - 1] == '>' ||
-                                    s[i - 1] == '!');
+    const bool after_op =
+        i > 0 && (s[i - 1] == '=' || s[i - 1] == '<' || s[i - 1] == '>' || s[i - 1] == '!');
     const bool before_eq = i + 1 < s.size() && s[i + 1] == '=';
     if (!after_op && !before_eq) return i;
     if (before_eq) ++i;  // skip "=="
@@ -116,7 +118,8 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
   e.text_ = raw;
   const std::string text = trim(raw);
   if (text.empty())
-    throw InputError(where, "expected a number or an expression in x, y, z, t, found an empty string");
+    throw InputError(where,
+                     "expected a number or an expression in x, y, z, t, found an empty string");
 
   double v = 0;
   if (as_number(text, v)) {
@@ -140,16 +143,19 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
                                   std::to_string(c->parser.GetNumResults()) +
                                   " comma-separated values, expected a single value");
     for (const auto& used : c->parser.GetUsedVar()) {
-      if (used.first == "t") e.uses_t_ = true;
-      else e.uses_xyz_ = true;
+      if (used.first == "t")
+        e.uses_t_ = true;
+      else
+        e.uses_xyz_ = true;
     }
   } catch (const mu::Parser::exception_type& err) {
     std::string msg = "invalid expression \"" + text + "\": " + err.GetMsg();
     if (err.GetCode() == mu::ecUNASSIGNABLE_TOKEN) {  // unknown name
       const std::string hint = did_you_mean(err.GetToken(), known_names());
       if (!hint.empty()) msg += " " + hint;
-      msg += " (variables: x, y, z, t; functions: sin cos tan asin acos atan sinh cosh tanh exp "
-             "log ln log10 sqrt abs min max; constants: _pi, _e)";
+      msg +=
+          " (variables: x, y, z, t; functions: sin cos tan asin acos atan sinh cosh tanh exp "
+          "log ln log10 sqrt abs min max; constants: _pi, _e)";
     }
     throw InputError(where, msg);
   }
@@ -181,8 +187,8 @@ double Expression::operator()(double x, double y, double z, double t) const {
 double Expression::eval_checked(double x, double y, double z, double t, const char* what) const {
   const double v = (*this)(x, y, z, t);
   if (std::isfinite(v)) return v;
-  std::string msg = std::string(what && *what ? what : "value") + ": \"" + text_ + "\" gives " +
-                    format_double(v);
+  std::string msg =
+      std::string(what && *what ? what : "value") + ": \"" + text_ + "\" gives " + format_double(v);
   if (compiled_)
     msg += " at x=" + format_double(x) + ", y=" + format_double(y) + ", z=" + format_double(z) +
            ", t=" + format_double(t);

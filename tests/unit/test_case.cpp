@@ -1,6 +1,5 @@
 // Reading and validating case files (io/case.hpp).
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <atomic>
@@ -16,7 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 /// Each test gets a fresh folder with a (dummy) mesh file part.msh in it.
 class CaseTest : public ::testing::Test {
@@ -24,9 +25,8 @@ class CaseTest : public ::testing::Test {
   void SetUp() override {
     static std::atomic<int> counter{0};
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("hencky-case-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
-            info->name());
+    dir_ = fs::temp_directory_path() / ("hencky-case-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(counter++) + "-" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     write("part.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
@@ -291,8 +291,8 @@ TEST_F(CaseTest, TemperatureFile) {
 TEST_F(CaseTest, TemperatureFileErrors) {
   const std::string yaml = tbase + "temperature:\n  reference: 20\n  field: {file: temps.csv}\n";
   write("temps.csv", "node,0.5,1.0\n1,20,100\n2,20,abc\n");
-  expect_error(yaml, {"temps.csv:3:6", "'temperature.field.file'", "expected a temperature",
-                      "'abc'"});
+  expect_error(yaml,
+               {"temps.csv:3:6", "'temperature.field.file'", "expected a temperature", "'abc'"});
   write("temps.csv", "node,0.5,1.0\n1,20,100\n2,20\n");
   expect_error(yaml, {"temps.csv:3", "expected 3 values", "found 2"});
   write("temps.csv", "node,1.0,0.5\n1,20,100\n");
@@ -313,9 +313,9 @@ TEST_F(CaseTest, TemperatureFileErrors) {
 }
 
 TEST_F(CaseTest, TemperatureRules) {
-  expect_error(tbase + "temperature:\n  field: 100\n",
-               {"case.yaml:11:3", "'temperature.reference'", "missing key 'reference'",
-                "never guessed"});
+  expect_error(
+      tbase + "temperature:\n  field: 100\n",
+      {"case.yaml:11:3", "'temperature.reference'", "missing key 'reference'", "never guessed"});
   expect_error(tbase + "temperature:\n  reference: 20\n",
                {"'temperature.field'", "missing key 'field'"});
   expect_error(tbase + "temperature:\n  reference: 20\n  field: [1, 2]\n",
@@ -334,13 +334,13 @@ temperature: {reference: 20, field: 100}
 }
 
 TEST_F(CaseTest, UnknownKeysGetSuggestions) {
-  expect_error("materails: []\n" + base,
-               {"case.yaml:1:1", "'materails'", "unknown key 'materails'; did you mean 'materials'?",
-                "valid keys here: 'title', 'mesh', 'materials'"});
+  expect_error("materails: []\n" + base, {"case.yaml:1:1", "'materails'",
+                                          "unknown key 'materails'; did you mean 'materials'?",
+                                          "valid keys here: 'title', 'mesh', 'materials'"});
   expect_error(base + "solver:\n  stpes: 10\n",
                {"case.yaml:11:3", "'solver.stpes'", "did you mean 'steps'?", "'cutback'"});
-  expect_error(base + "steps: 10\n", {"case.yaml:10:1", "unknown key 'steps'",
-                                      "'steps' is a key of 'solver'"});
+  expect_error(base + "steps: 10\n",
+               {"case.yaml:10:1", "unknown key 'steps'", "'steps' is a key of 'solver'"});
   expect_error(R"(mesh: {file: part.msh}
 materials:
   - name: steel
@@ -348,13 +348,13 @@ materials:
     nu: 0.3
 )",
                {"case.yaml:4:5", "'materials[0].e'", "did you mean 'E'?"});
-  expect_error(base + "  - region: top\n    displacement: {x: 0, w: 1}\n",
-               {"case.yaml:11:26", "'boundary[1].displacement.w'", "unknown key 'w'",
-                "'x', 'y', 'z'"});
+  expect_error(
+      base + "  - region: top\n    displacement: {x: 0, w: 1}\n",
+      {"case.yaml:11:26", "'boundary[1].displacement.w'", "unknown key 'w'", "'x', 'y', 'z'"});
   expect_error(base + "output:\n  probes:\n    - name: A\n      pont: [0, 0, 0]\n",
                {"case.yaml:13:7", "'output.probes[0].pont'", "did you mean 'point'?"});
-  expect_error(base + "mesh:\n  file: part.msh\n", {"case.yaml:10:1", "duplicate key 'mesh'",
-                                                     "first given at line 1"});
+  expect_error(base + "mesh:\n  file: part.msh\n",
+               {"case.yaml:10:1", "duplicate key 'mesh'", "first given at line 1"});
 }
 
 TEST_F(CaseTest, WrongTypes) {
@@ -369,8 +369,7 @@ TEST_F(CaseTest, WrongTypes) {
                {"'solver.max_iterations'", "expected a whole number, found 'ten'"});
   expect_error(base + "solver: 5\n", {"'solver'", "expected a map of keys, found '5'"});
   expect_error(base + "solver:\n", {"case.yaml:10:1", "'solver'", "found nothing"});
-  expect_error(base + "body_force: [0, 0]\n",
-               {"'body_force'", "list of 3", "found a list of 2"});
+  expect_error(base + "body_force: [0, 0]\n", {"'body_force'", "list of 3", "found a list of 2"});
   expect_error(base + "body_force: 9.81\n", {"'body_force'", "found '9.81'"});
   expect_error(R"(mesh: {file: part.msh}
 materials:
@@ -385,8 +384,7 @@ TEST_F(CaseTest, FileLevelErrors) {
   expect_error("", {"case.yaml", "empty"});
   expect_error("# just a comment\n", {"case.yaml", "empty"});
   expect_error("- a\n- b\n", {"case.yaml", "expected a map of keys", "found a list"});
-  expect_error("mesh: {file: part.msh\nmaterials: []\n",
-               {"case.yaml:", "YAML syntax error"});
+  expect_error("mesh: {file: part.msh\nmaterials: []\n", {"case.yaml:", "YAML syntax error"});
   expect_error("mesh: {file: part.msh}\nmaterials: [{E: 1, nu: 0.3}]\n\tsolver: {}\n",
                {"case.yaml:3:", "YAML syntax error", "line 3 is indented with a tab"});
   const std::string m = error("mesh:\n  file: part.msh\n   order: 2\n");
@@ -404,9 +402,9 @@ TEST_F(CaseTest, FileLevelErrors) {
 }
 
 TEST_F(CaseTest, Mesh) {
-  expect_error("mesh:\n  file: missing.msh\nmaterials: [{E: 1, nu: 0.3}]\n",
-               {"case.yaml:2:9", "'mesh.file'", "mesh file not found",
-                (dir_ / "missing.msh").string()});
+  expect_error(
+      "mesh:\n  file: missing.msh\nmaterials: [{E: 1, nu: 0.3}]\n",
+      {"case.yaml:2:9", "'mesh.file'", "mesh file not found", (dir_ / "missing.msh").string()});
   expect_error("mesh:\n  order: 2\nmaterials: [{E: 1, nu: 0.3}]\n",
                {"case.yaml:2:3", "'mesh.file'", "missing key 'file'"});
   expect_error("mesh: {file: part.msh, order: 3}\nmaterials: [{E: 1, nu: 0.3}]\n",
@@ -439,12 +437,14 @@ TEST_F(CaseTest, PropertyTables) {
   expect_error(head + "    E: 0\n", {"case.yaml:5:8", "'materials[0].E'", "> 0", "found 0"});
   expect_error(head + "    E: steel\n", {"'materials[0].E'", "expected a number, found 'steel'"});
   const std::string head2 = "mesh: {file: part.msh}\nmaterials:\n  - name: steel\n    E: 1e9\n";
-  expect_error(head2 + "    nu: 0.5\n", {"case.yaml:5:9", "'materials[0].nu'", "-1 < nu < 0.5",
-                                          "found 0.5"});
+  expect_error(head2 + "    nu: 0.5\n",
+               {"case.yaml:5:9", "'materials[0].nu'", "-1 < nu < 0.5", "found 0.5"});
   expect_error(head2 + "    nu: -1\n", {"'materials[0].nu'", "-1 < nu < 0.5"});
   expect_error(head2 + "    nu: {temperature: [0, 100], value: [0.3, 0.55]}\n",
                {"'materials[0].nu.value[1]'", "found 0.55"});
   expect_error(head2 + "    alpha: 1e-5\n", {"'materials[0].nu'", "missing key 'nu'"});
+  expect_error(head + "    E: {temperature: [20, 300], value: [2e11, 1e11]}\n",
+               {"case.yaml:5:8", "'materials[0].E'", "needs a 'temperature' section"});
   // a one-entry table is a constant
   const Case c = read(head2 + "    nu: {temperature: [100], value: [0.25]}\n");
   EXPECT_TRUE(c.materials[0].nu.is_constant());
@@ -464,16 +464,17 @@ materials:
   - {name: steel, regions: [b], E: 1, nu: 0.3}
 )",
                {"'materials[1].name'", "already used by materials[0]"});
-  expect_error(R"(mesh: {file: part.msh}
+  expect_error(
+      R"(mesh: {file: part.msh}
 materials:
   - {name: steel, regions: [a, b], E: 1, nu: 0.3}
   - {name: copper, regions: [c, b], E: 1, nu: 0.3}
 )",
-               {"case.yaml:4:33", "'materials[1].regions[1]'", "already given to material 'steel'"});
-  expect_error("mesh: {file: part.msh}\nmaterials: []\n",
-               {"'materials'", "at least one material"});
+      {"case.yaml:4:33", "'materials[1].regions[1]'", "already given to material 'steel'"});
+  expect_error("mesh: {file: part.msh}\nmaterials: []\n", {"'materials'", "at least one material"});
   const Case c = read(
-      "mesh: {file: part.msh}\nmaterials: [{regions: q, E: 1, nu: 0.3}, {regions: r, E: 2, nu: 0.2}]\n");
+      "mesh: {file: part.msh}\nmaterials: [{regions: q, E: 1, nu: 0.3}, {regions: r, E: 2, nu: "
+      "0.2}]\n");
   EXPECT_EQ(c.materials[0].name, "material0");
   EXPECT_EQ(c.materials[1].name, "material1");
   EXPECT_EQ(c.materials[1].regions, (std::vector<std::string>{"r"}));
@@ -488,8 +489,8 @@ materials:
     plasticity:
       curve: {kind: uniaxial}
 )",
-               {"case.yaml:7:7", "'materials[0].plasticity'", "plasticity is not available in hencky 0.1",
-                "thermo-elastic"});
+               {"case.yaml:7:7", "'materials[0].plasticity'",
+                "plasticity is not available in hencky 0.1", "thermo-elastic"});
   const std::string m = error(base + "contact:\n  - name: floor\n    nodes: bottom\n");
   EXPECT_TRUE(has(m, "case.yaml:11:3")) << m;
   EXPECT_TRUE(has(m, "'contact'")) << m;
@@ -519,8 +520,11 @@ TEST_F(CaseTest, Boundary) {
                {"'boundary[0].displacement'", "found '0'"});
   expect_error(head + "  - region: a\n    pressure: [1]\n",
                {"'boundary[0].pressure'", "expected a number or an expression", "found a list"});
-  expect_error(head + "  - region: a\n    displacement: {x: 0}\n  - region: a\n    displacement: {y: 0, x: 1}\n",
-               {"case.yaml:7:29", "'boundary[1].displacement.x'", "already prescribed by boundary[0]"});
+  expect_error(
+      head +
+          "  - region: a\n    displacement: {x: 0}\n  - region: a\n    displacement: {y: 0, x: "
+          "1}\n",
+      {"case.yaml:7:29", "'boundary[1].displacement.x'", "already prescribed by boundary[0]"});
   expect_error(head + "  region: a\n  pressure: 1\n",
                {"'boundary'", "expected a list of conditions", "'- '"});
   expect_error(head + "  - region: a\n    presure: 1\n",
@@ -528,12 +532,12 @@ TEST_F(CaseTest, Boundary) {
 }
 
 TEST_F(CaseTest, SolverChoices) {
-  for (const char* s : {"newton", "variable-stiffness", "initial-strain", "initial-strain-stiffness",
-                        "initial-stress", "initial-stress-stiffness"})
+  for (const char* s : {"newton", "variable-stiffness", "initial-strain",
+                        "initial-strain-stiffness", "initial-stress", "initial-stress-stiffness"})
     EXPECT_EQ(read(base + "solver: {scheme: " + s + "}\n").solver.scheme, s);
   expect_error(base + "solver:\n  scheme: newtn\n",
-               {"case.yaml:11:11", "'solver.scheme'", "unknown scheme 'newtn'", "did you mean 'newton'?",
-                "'initial-stress-stiffness'"});
+               {"case.yaml:11:11", "'solver.scheme'", "unknown scheme 'newtn'",
+                "did you mean 'newton'?", "'initial-stress-stiffness'"});
   expect_error(base + "solver:\n  curve_form: stres\n", {"did you mean 'stress'?"});
   expect_error(base + "solver:\n  linear: drect\n", {"'solver.linear'", "did you mean 'direct'?"});
   expect_error(base + "solver:\n  correction: -0.5\n", {"'solver.correction'", ">= 0"});
@@ -542,7 +546,9 @@ TEST_F(CaseTest, SolverChoices) {
 }
 
 TEST_F(CaseTest, Output) {
-  expect_error(base + "output:\n  probes:\n    - {name: A, point: [0, 0, 0]}\n    - {name: A, point: [1, 0, 0]}\n",
+  expect_error(base +
+                   "output:\n  probes:\n    - {name: A, point: [0, 0, 0]}\n    - {name: A, point: "
+                   "[1, 0, 0]}\n",
                {"case.yaml:13:14", "'output.probes[1].name'", "already used by output.probes[0]"});
   expect_error(base + "output:\n  probes:\n    - {name: A, point: [0, 0]}\n",
                {"'output.probes[0].point'", "list of 3 numbers", "found a list of 2"});

@@ -14,7 +14,9 @@ namespace {
 
 const SourceLocation here{"case.yaml", 7, 15, "boundary[1].pressure"};
 
-Expression P(const std::string& text) { return Expression::parse(text, here); }
+Expression P(const std::string& text) {
+  return Expression::parse(text, here);
+}
 
 /// The InputError message of parsing `text`, or "" when it parses.
 std::string parse_error(const std::string& text) {
@@ -26,11 +28,17 @@ std::string parse_error(const std::string& text) {
   return "";
 }
 
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 TEST(Expression, Numbers) {
-  for (auto [text, value] : std::vector<std::pair<std::string, double>>{
-           {"2.1e11", 2.1e11}, {"1.0e-6", 1e-6}, {"20", 20}, {"-3.5", -3.5}, {"+4", 4}, {" 7 ", 7}}) {
+  for (auto [text, value] : std::vector<std::pair<std::string, double>>{{"2.1e11", 2.1e11},
+                                                                        {"1.0e-6", 1e-6},
+                                                                        {"20", 20},
+                                                                        {"-3.5", -3.5},
+                                                                        {"+4", 4},
+                                                                        {" 7 ", 7}}) {
     const Expression e = P(text);
     EXPECT_TRUE(e.is_constant()) << text;
     EXPECT_FALSE(e.depends_on_time()) << text;
@@ -188,8 +196,8 @@ TEST(Expression, EvalChecked) {
 }
 
 TEST(ExpressionSuggest, Closest) {
-  const std::vector<std::string> keys = {"title", "mesh", "materials", "temperature", "boundary",
-                                         "solver", "output"};
+  const std::vector<std::string> keys = {"title",    "mesh",   "materials", "temperature",
+                                         "boundary", "solver", "output"};
   EXPECT_EQ(closest("materails", keys), "materials");
   EXPECT_EQ(closest("MESH", keys), "mesh");
   EXPECT_EQ(closest("boundry", keys), "boundary");
