@@ -17,6 +17,7 @@ struct Point {
   double x, y, z, w;
 };
 
+// clang-format off
 // Gauss-Legendre on [-1, 1], points ascending
 constexpr double gauss_x[5][5] = {
     {0.0},
@@ -104,6 +105,7 @@ constexpr Point tet_14[] = {
     {4.54496295874350350508e-1, 4.55037041256496494919e-2, 4.54496295874350350508e-1, 7.09100346284691107301e-3},
     {4.55037041256496494919e-2, 4.54496295874350350508e-1, 4.54496295874350350508e-1, 7.09100346284691107301e-3},
 };
+// clang-format on
 
 template <std::size_t N>
 QuadratureRule from_table(int degree, const Point (&table)[N]) {
@@ -160,11 +162,20 @@ enum Domain { line, quadrilateral, hexahedron, triangle, tetrahedron, wedge, n_d
 
 Domain domain_of(CellType t) {
   switch (t) {
-    case CellType::tet4: case CellType::tet10: return tetrahedron;
-    case CellType::hex8: case CellType::hex20: return hexahedron;
-    case CellType::wedge6: return wedge;
-    case CellType::tri3: case CellType::tri6: return triangle;
-    case CellType::quad4: case CellType::quad8: return quadrilateral;
+    case CellType::tet4:
+    case CellType::tet10:
+      return tetrahedron;
+    case CellType::hex8:
+    case CellType::hex20:
+      return hexahedron;
+    case CellType::wedge6:
+      return wedge;
+    case CellType::tri3:
+    case CellType::tri6:
+      return triangle;
+    case CellType::quad4:
+    case CellType::quad8:
+      return quadrilateral;
   }
   throw std::invalid_argument("quadrature: unknown cell type");
 }
@@ -189,7 +200,7 @@ struct Rules {
     tet.push_back(from_table(1, tet_1));
     tet.push_back(from_table(2, tet_4));
     tet.push_back(from_table(5, tet_14));
-    // Wedge of degree d: smallest triangle rule of degree >= d times ceil((d + 1) / 2) Gauss points.
+    // Wedge of degree d: smallest triangle rule of degree >= d x ceil((d + 1) / 2) Gauss points.
     for (int d = 1; d <= tri.back().degree; ++d) {
       const QuadratureRule* t = nullptr;
       for (const auto& r : tri)
@@ -214,12 +225,14 @@ const QuadratureRule& quadrature(CellType type, int degree) {
   if (degree >= 0)
     for (const auto& r : list)
       if (r.degree >= degree) return r;
-  throw std::invalid_argument("no quadrature rule of degree " + std::to_string(degree) + " for the " +
-                              std::string(cell_name(type)) + " (available: up to " +
+  throw std::invalid_argument("no quadrature rule of degree " + std::to_string(degree) +
+                              " for the " + std::string(cell_name(type)) + " (available: up to " +
                               std::to_string(list.back().degree) + ")");
 }
 
-int max_quadrature_degree(CellType type) { return rules().by_domain[domain_of(type)].back().degree; }
+int max_quadrature_degree(CellType type) {
+  return rules().by_domain[domain_of(type)].back().degree;
+}
 
 const QuadratureRule& gauss_legendre(int n_points) {
   if (n_points < 1 || n_points > 5)
@@ -230,15 +243,24 @@ const QuadratureRule& gauss_legendre(int n_points) {
 
 int default_degree(CellType type) {
   switch (type) {
-    case CellType::tet4: return 1;
-    case CellType::tet10: return 2;
-    case CellType::hex8: return 3;
-    case CellType::hex20: return 5;
-    case CellType::wedge6: return 2;
-    case CellType::tri3: return 2;
-    case CellType::tri6: return 4;
-    case CellType::quad4: return 3;
-    case CellType::quad8: return 5;
+    case CellType::tet4:
+      return 1;
+    case CellType::tet10:
+      return 2;
+    case CellType::hex8:
+      return 3;
+    case CellType::hex20:
+      return 5;
+    case CellType::wedge6:
+      return 2;
+    case CellType::tri3:
+      return 2;
+    case CellType::tri6:
+      return 4;
+    case CellType::quad4:
+      return 3;
+    case CellType::quad8:
+      return 5;
   }
   throw std::invalid_argument("default_degree: unknown cell type");
 }

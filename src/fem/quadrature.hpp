@@ -25,7 +25,7 @@
 namespace hencky {
 
 struct QuadratureRule {
-  int degree = 0;                             ///< polynomials up to this total degree are integrated exactly
+  int degree = 0;  ///< polynomials up to this total degree are integrated exactly
   std::vector<std::array<double, 3>> points;  ///< natural coordinates (unused trailing coords = 0)
   std::vector<double> weights;                ///< one per point; they sum to the reference volume
 

@@ -13,6 +13,7 @@ namespace hencky {
 namespace {
 
 // Node coordinates, stride 3, Gmsh ordering.
+// clang-format off
 constexpr double tet4_nodes[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
 constexpr double tet10_nodes[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,  // corners
                                   0.5, 0, 0,    // 4: (0,1)
@@ -40,6 +41,7 @@ constexpr double tri6_nodes[] = {0, 0, 0, 1, 0, 0, 0, 1, 0,  // corners
                                  0.5, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0};
 constexpr double quad8_nodes[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0,  // corners
                                   0, -1, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0};
+// clang-format on
 // The linear cells' nodes are the first nodes of the quadratic ones.
 constexpr const double* hex_nodes = hex20_nodes;
 constexpr const double* quad_nodes = quad8_nodes;
@@ -51,12 +53,21 @@ constexpr int tri6_edges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
 
 const double* node_coordinates(CellType type) {
   switch (type) {
-    case CellType::tet4: return tet4_nodes;
-    case CellType::tet10: return tet10_nodes;
-    case CellType::hex8: case CellType::hex20: return hex20_nodes;
-    case CellType::wedge6: return wedge6_nodes;
-    case CellType::tri3: case CellType::tri6: return tri6_nodes;
-    case CellType::quad4: case CellType::quad8: return quad8_nodes;
+    case CellType::tet4:
+      return tet4_nodes;
+    case CellType::tet10:
+      return tet10_nodes;
+    case CellType::hex8:
+    case CellType::hex20:
+      return hex20_nodes;
+    case CellType::wedge6:
+      return wedge6_nodes;
+    case CellType::tri3:
+    case CellType::tri6:
+      return tri6_nodes;
+    case CellType::quad4:
+    case CellType::quad8:
+      return quad8_nodes;
   }
   return nullptr;
 }
@@ -296,7 +307,7 @@ std::unique_ptr<ReferenceTable> build_table(CellType type, const QuadratureRule&
   t->extrapolation = Eigen::MatrixXd::Constant(nn, np, 1.0 / np);  // the mean: fallback
   if (np >= nc) {
     Eigen::MatrixXd M(np, nc);  // M(q, i) = N_i^lin(point q)
-    double row[8];  // corner cells have at most 8 nodes
+    double row[8];              // corner cells have at most 8 nodes
     for (int q = 0; q < np; ++q) {
       shape_values(lin, t->points[q].data(), row);
       for (int i = 0; i < nc; ++i) M(q, i) = row[i];
@@ -334,7 +345,8 @@ const ReferenceTable& reference_table(CellType type, int degree) {
   if (cacheable)
     if (const ReferenceTable* p = table_cache[t][degree].load(std::memory_order_relaxed)) return *p;
   // Degrees that map to the same rule share one table, keyed by the rule's degree.
-  if (rule.degree > max_cached_degree) throw std::logic_error("reference_table: rule degree too high");
+  if (rule.degree > max_cached_degree)
+    throw std::logic_error("reference_table: rule degree too high");
   const ReferenceTable* p = table_cache[t][rule.degree].load(std::memory_order_relaxed);
   if (!p) {
     table_storage.push_back(build_table(type, rule));

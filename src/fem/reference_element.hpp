@@ -13,10 +13,9 @@
 //   tri6    corners L_a (2 L_a - 1); edge nodes 3,4,5 on edges (0,1) (1,2) (2,0): 4 L_i L_j
 //   quad4   bilinear, nodes (-1,-1) (1,-1) (1,1) (-1,1)
 //   quad8   serendipity; edge nodes 4..7 on edges (0,1) (1,2) (2,3) (3,0)
+#include <Eigen/Dense>
 #include <array>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "fem/cell_type.hpp"
 
@@ -35,14 +34,14 @@ void shape_gradients(CellType type, const double* xi, double* dN);
 /// Everything an element kernel needs for one cell type and quadrature rule.
 struct ReferenceTable {
   CellType type = CellType::tet4;
-  int degree = 0;    ///< degree of the quadrature rule used (>= the degree asked for)
-  int dim = 0;       ///< cell_dim(type)
-  int n_nodes = 0;   ///< cell_n_nodes(type)
-  int n_points = 0;  ///< integration points
-  std::vector<double> weights;               ///< [q]
-  std::vector<std::array<double, 3>> points; ///< [q], natural coordinates
-  std::vector<double> N;                     ///< [q*n_nodes + a]
-  std::vector<double> dN;                    ///< [(q*n_nodes + a)*dim + k] = dN_a/dxi_k at point q
+  int degree = 0;               ///< degree of the quadrature rule used (>= the degree asked for)
+  int dim = 0;                  ///< cell_dim(type)
+  int n_nodes = 0;              ///< cell_n_nodes(type)
+  int n_points = 0;             ///< integration points
+  std::vector<double> weights;  ///< [q]
+  std::vector<std::array<double, 3>> points;  ///< [q], natural coordinates
+  std::vector<double> N;                      ///< [q*n_nodes + a]
+  std::vector<double> dN;                     ///< [(q*n_nodes + a)*dim + k] = dN_a/dxi_k at point q
   /// n_nodes x n_points: nodal values = extrapolation * (integration-point values). Least-squares
   /// fit of the point values in the span of the shape functions of cell_linear(type) (corner
   /// nodes only), evaluated at every node (mid-edge nodes get the linear field there). With fewer

@@ -19,31 +19,49 @@
 
 using namespace hencky;
 
+// Gmsh 4.8 leaks the face closures it builds for the prism basis (ClosureGen::getFaceClosurePrism);
+// keep LeakSanitizer (HENCKY_SANITIZE builds) quiet about that one. Weak, so that a project-wide
+// definition elsewhere wins; unused without the sanitizer.
+extern "C" __attribute__((weak)) const char* __lsan_default_suppressions() {
+  return "leak:ClosureGen::getFaceClosurePrism\n";
+}
+
 namespace {
 
-constexpr CellType all_types[] = {CellType::tet4,   CellType::tet10, CellType::hex8,
-                                  CellType::hex20,  CellType::wedge6, CellType::tri3,
-                                  CellType::tri6,   CellType::quad4, CellType::quad8};
+constexpr CellType all_types[] = {CellType::tet4,  CellType::tet10,  CellType::hex8,
+                                  CellType::hex20, CellType::wedge6, CellType::tri3,
+                                  CellType::tri6,  CellType::quad4,  CellType::quad8};
 /// One cell per reference domain.
-constexpr CellType domain_types[] = {CellType::tet4, CellType::hex8, CellType::wedge6, CellType::tri3,
-                                     CellType::quad4};
+constexpr CellType domain_types[] = {CellType::tet4, CellType::hex8, CellType::wedge6,
+                                     CellType::tri3, CellType::quad4};
 
 int gmsh_type(CellType t) {
   switch (t) {
-    case CellType::tet4: return 4;
-    case CellType::tet10: return 11;
-    case CellType::hex8: return 5;
-    case CellType::hex20: return 17;
-    case CellType::wedge6: return 6;
-    case CellType::tri3: return 2;
-    case CellType::tri6: return 9;
-    case CellType::quad4: return 3;
-    case CellType::quad8: return 16;
+    case CellType::tet4:
+      return 4;
+    case CellType::tet10:
+      return 11;
+    case CellType::hex8:
+      return 5;
+    case CellType::hex20:
+      return 17;
+    case CellType::wedge6:
+      return 6;
+    case CellType::tri3:
+      return 2;
+    case CellType::tri6:
+      return 9;
+    case CellType::quad4:
+      return 3;
+    case CellType::quad8:
+      return 16;
   }
   return 0;
 }
 
-std::string name(CellType t) { return std::string(cell_name(t)); }
+std::string name(CellType t) {
+  return std::string(cell_name(t));
+}
 
 bool is_simplex(CellType t) {
   return t == CellType::tet4 || t == CellType::tet10 || t == CellType::tri3 || t == CellType::tri6;
@@ -56,33 +74,46 @@ double factorial(int n) {
 }
 
 /// Exact integral of xi^i over [-1, 1].
-double line_integral(int i) { return i % 2 ? 0.0 : 2.0 / (i + 1); }
+double line_integral(int i) {
+  return i % 2 ? 0.0 : 2.0 / (i + 1);
+}
 
 /// Exact integral of xi^i eta^j zeta^k over the reference domain of t (k = 0 in 2D).
 double exact_integral(CellType t, int i, int j, int k) {
   switch (t) {
-    case CellType::tet4: case CellType::tet10:
+    case CellType::tet4:
+    case CellType::tet10:
       return factorial(i) * factorial(j) * factorial(k) / factorial(i + j + k + 3);
-    case CellType::hex8: case CellType::hex20:
+    case CellType::hex8:
+    case CellType::hex20:
       return line_integral(i) * line_integral(j) * line_integral(k);
-    case CellType::wedge6: return factorial(i) * factorial(j) / factorial(i + j + 2) * line_integral(k);
-    case CellType::tri3: case CellType::tri6: return factorial(i) * factorial(j) / factorial(i + j + 2);
-    case CellType::quad4: case CellType::quad8: return line_integral(i) * line_integral(j);
+    case CellType::wedge6:
+      return factorial(i) * factorial(j) / factorial(i + j + 2) * line_integral(k);
+    case CellType::tri3:
+    case CellType::tri6:
+      return factorial(i) * factorial(j) / factorial(i + j + 2);
+    case CellType::quad4:
+    case CellType::quad8:
+      return line_integral(i) * line_integral(j);
   }
   return 0.0;
 }
 
-double reference_volume(CellType t) { return exact_integral(t, 0, 0, 0); }
+double reference_volume(CellType t) {
+  return exact_integral(t, 0, 0, 0);
+}
 
 /// Strictly inside the reference domain (with margin m).
 bool inside(CellType t, const std::array<double, 3>& x, double m = 0.0) {
   const int dim = cell_dim(t);
   switch (t) {
-    case CellType::tet4: case CellType::tet10:
+    case CellType::tet4:
+    case CellType::tet10:
       return x[0] > m && x[1] > m && x[2] > m && x[0] + x[1] + x[2] < 1 - m;
     case CellType::wedge6:
       return x[0] > m && x[1] > m && x[0] + x[1] < 1 - m && std::abs(x[2]) < 1 - m;
-    case CellType::tri3: case CellType::tri6:
+    case CellType::tri3:
+    case CellType::tri6:
       return x[0] > m && x[1] > m && x[0] + x[1] < 1 - m && x[2] == 0.0;
     default:
       for (int k = 0; k < 3; ++k)
@@ -166,9 +197,11 @@ TEST(QuadratureRules, ExactForEveryMonomialUpToItsDegree) {
         sum += r.weights[q];
       }
       EXPECT_NEAR(sum, vol, tol);
-      for (int e = 0; e <= r.degree; ++e) EXPECT_LT(worst_error_at_degree(t, r, e), tol) << "monomials of degree " << e;
+      for (int e = 0; e <= r.degree; ++e)
+        EXPECT_LT(worst_error_at_degree(t, r, e), tol) << "monomials of degree " << e;
       // Not exact one degree higher: the stated degree is the true one.
-      EXPECT_GT(worst_error_at_degree(t, r, r.degree + 1), 1e-8) << "exact at degree " << r.degree + 1;
+      EXPECT_GT(worst_error_at_degree(t, r, r.degree + 1), 1e-8)
+          << "exact at degree " << r.degree + 1;
     }
   }
 }
@@ -179,14 +212,14 @@ TEST(QuadratureRules, ProvidedRulesAndSizes) {
     int degree, points, rule_degree;
   };
   const Expect table[] = {
-      {CellType::tet4, 1, 1, 1},    {CellType::tet4, 2, 4, 2},     {CellType::tet4, 3, 14, 5},
-      {CellType::tet4, 4, 14, 5},   {CellType::tet4, 5, 14, 5},    {CellType::tri3, 1, 1, 1},
-      {CellType::tri3, 2, 3, 2},    {CellType::tri3, 3, 6, 4},     {CellType::tri3, 4, 6, 4},
-      {CellType::tri3, 5, 7, 5},    {CellType::tri3, 6, 12, 6},    {CellType::quad4, 1, 1, 1},
-      {CellType::quad4, 3, 4, 3},   {CellType::quad4, 5, 9, 5},    {CellType::quad4, 9, 25, 9},
-      {CellType::hex8, 1, 1, 1},    {CellType::hex8, 3, 8, 3},     {CellType::hex8, 5, 27, 5},
-      {CellType::hex8, 7, 64, 7},   {CellType::hex8, 9, 125, 9},   {CellType::wedge6, 1, 1, 1},
-      {CellType::wedge6, 2, 6, 2},  {CellType::wedge6, 3, 12, 3},  {CellType::wedge6, 4, 18, 4},
+      {CellType::tet4, 1, 1, 1},    {CellType::tet4, 2, 4, 2},    {CellType::tet4, 3, 14, 5},
+      {CellType::tet4, 4, 14, 5},   {CellType::tet4, 5, 14, 5},   {CellType::tri3, 1, 1, 1},
+      {CellType::tri3, 2, 3, 2},    {CellType::tri3, 3, 6, 4},    {CellType::tri3, 4, 6, 4},
+      {CellType::tri3, 5, 7, 5},    {CellType::tri3, 6, 12, 6},   {CellType::quad4, 1, 1, 1},
+      {CellType::quad4, 3, 4, 3},   {CellType::quad4, 5, 9, 5},   {CellType::quad4, 9, 25, 9},
+      {CellType::hex8, 1, 1, 1},    {CellType::hex8, 3, 8, 3},    {CellType::hex8, 5, 27, 5},
+      {CellType::hex8, 7, 64, 7},   {CellType::hex8, 9, 125, 9},  {CellType::wedge6, 1, 1, 1},
+      {CellType::wedge6, 2, 6, 2},  {CellType::wedge6, 3, 12, 3}, {CellType::wedge6, 4, 18, 4},
       {CellType::wedge6, 5, 21, 5}, {CellType::wedge6, 6, 48, 6},
   };
   for (const auto& e : table) {
@@ -211,9 +244,10 @@ TEST(QuadratureRules, DefaultDegrees) {
     CellType type;
     int degree, points;
   };
-  const Expect table[] = {{CellType::tet4, 1, 1},   {CellType::tet10, 2, 4}, {CellType::hex8, 3, 8},
-                          {CellType::hex20, 5, 27}, {CellType::wedge6, 2, 6}, {CellType::tri3, 2, 3},
-                          {CellType::tri6, 4, 6},   {CellType::quad4, 3, 4}, {CellType::quad8, 5, 9}};
+  const Expect table[] = {
+      {CellType::tet4, 1, 1},   {CellType::tet10, 2, 4},  {CellType::hex8, 3, 8},
+      {CellType::hex20, 5, 27}, {CellType::wedge6, 2, 6}, {CellType::tri3, 2, 3},
+      {CellType::tri6, 4, 6},   {CellType::quad4, 3, 4},  {CellType::quad8, 5, 9}};
   for (const auto& e : table) {
     SCOPED_TRACE(name(e.type));
     EXPECT_EQ(default_degree(e.type), e.degree);
@@ -309,7 +343,8 @@ TEST(ReferenceElement, KroneckerAtNodes) {
     for (int b = 0; b < n; ++b) {
       double N[20];
       shape_values(t, xn + 3 * b, N);
-      for (int a = 0; a < n; ++a) EXPECT_NEAR(N[a], a == b ? 1.0 : 0.0, 1e-15) << "N_" << a << "(node " << b << ")";
+      for (int a = 0; a < n; ++a)
+        EXPECT_NEAR(N[a], a == b ? 1.0 : 0.0, 1e-15) << "N_" << a << "(node " << b << ")";
     }
   }
 }
@@ -330,7 +365,8 @@ TEST(ReferenceElement, GradientsMatchFiniteDifferences) {
         shape_values(t, xp.data(), Np);
         shape_values(t, xm.data(), Nm);
         for (int a = 0; a < n; ++a)
-          EXPECT_NEAR(dN[a * dim + k], (Np[a] - Nm[a]) / (2 * h), 1e-8) << "dN_" << a << "/dxi_" << k;
+          EXPECT_NEAR(dN[a * dim + k], (Np[a] - Nm[a]) / (2 * h), 1e-8)
+              << "dN_" << a << "/dxi_" << k;
       }
     }
   }
@@ -343,7 +379,8 @@ TEST(ReferenceElement, NodeCoordinatesMatchGmsh) {
     std::string gname;
     int dim = 0, order = 0, n_nodes = 0, n_primary = 0;
     std::vector<double> coord;
-    gmsh::model::mesh::getElementProperties(gmsh_type(t), gname, dim, order, n_nodes, coord, n_primary);
+    gmsh::model::mesh::getElementProperties(gmsh_type(t), gname, dim, order, n_nodes, coord,
+                                            n_primary);
     ASSERT_EQ(dim, cell_dim(t));
     ASSERT_EQ(n_nodes, cell_n_nodes(t));
     EXPECT_EQ(n_primary, cell_n_corners(t));
@@ -351,7 +388,8 @@ TEST(ReferenceElement, NodeCoordinatesMatchGmsh) {
     const double* xn = node_coordinates(t);
     for (int a = 0; a < n_nodes; ++a)
       for (int k = 0; k < 3; ++k)
-        EXPECT_NEAR(xn[3 * a + k], k < dim ? coord[a * dim + k] : 0.0, 1e-14) << "node " << a << ", coordinate " << k;
+        EXPECT_NEAR(xn[3 * a + k], k < dim ? coord[a * dim + k] : 0.0, 1e-14)
+            << "node " << a << ", coordinate " << k;
   }
 }
 
@@ -371,7 +409,8 @@ TEST(ReferenceElement, ShapeFunctionsMatchGmsh) {
     ASSERT_EQ(n_comp, 1);
     ASSERT_EQ(values.size(), pts.size() * n);
     int n_gcomp = 0;
-    gmsh::model::mesh::getBasisFunctions(gmsh_type(t), local, "GradLagrange", n_gcomp, grads, n_orient);
+    gmsh::model::mesh::getBasisFunctions(gmsh_type(t), local, "GradLagrange", n_gcomp, grads,
+                                         n_orient);
     ASSERT_EQ(n_gcomp, 3);
     ASSERT_EQ(grads.size(), pts.size() * n * 3);
     for (std::size_t p = 0; p < pts.size(); ++p) {
@@ -380,7 +419,9 @@ TEST(ReferenceElement, ShapeFunctionsMatchGmsh) {
       shape_gradients(t, pts[p].data(), dN);
       for (int a = 0; a < n; ++a) {
         EXPECT_NEAR(N[a], values[p * n + a], 1e-12) << "N_" << a;
-        for (int k = 0; k < dim; ++k) EXPECT_NEAR(dN[a * dim + k], grads[(p * n + a) * 3 + k], 1e-12) << "dN_" << a << "/dxi_" << k;
+        for (int k = 0; k < dim; ++k)
+          EXPECT_NEAR(dN[a * dim + k], grads[(p * n + a) * 3 + k], 1e-12)
+              << "dN_" << a << "/dxi_" << k;
       }
     }
   }
