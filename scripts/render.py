@@ -16,9 +16,13 @@ display), so without $DISPLAY the script runs itself again under `xvfb-run` (pac
 equivalently: xvfb-run -a -s "-screen 0 1920x1080x24" pvpython scripts/render.py ...
 """
 import argparse
+import math
 import os
 import shutil
 import sys
+
+BAR_PIXELS = 110  # height kept free at the bottom for the colour bar and its labels
+TITLE_PIXELS = 50  # and at the top for the title
 
 
 def parse_args():
@@ -67,6 +71,71 @@ def rerun_under_xvfb(args):
     os.execvpe(xvfb, [xvfb, "-a", "-s", screen, pv, os.path.abspath(sys.argv[0])] + sys.argv[1:], env)
 
 
+def screen_frame(direction, up):
+    """Unit vectors: towards the camera, screen up, screen right."""
+    def unit(v):
+        n = math.sqrt(sum(x * x for x in v)) or 1.0
+        return [x / n for x in v]
+
+    d = unit(direction)
+    along = sum(a * b for a, b in zip(up, d))
+    u = unit([up[k] - along * d[k] for k in range(3)])
+    r = [u[1] * d[2] - u[2] * d[1], u[2] * d[0] - u[0] * d[2], u[0] * d[1] - u[1] * d[0]]
+    return d, u, r
+
+
+def screen_extents(source, r, u, bounds, t):
+    """Ranges of x.r and x.u over the points of source (exact, computed by ParaView in one
+    pass); the bounding box corners if that fails."""
+    try:
+        from paraview import simple
+        calc = simple.Calculator(Input=source)
+        calc.AttributeType = "Point Data"
+        calc.ResultArrayName = "hencky_screen_xy"
+        calc.Function = ("(coordsX*%.17g+coordsY*%.17g+coordsZ*%.17g)*iHat+"
+                         "(coordsX*%.17g+coordsY*%.17g+coordsZ*%.17g)*jHat"
+                         % (r[0], r[1], r[2], u[0], u[1], u[2]))
+        calc.UpdatePipeline(t) if t is not None else calc.UpdatePipeline()
+        a = calc.GetDataInformation().GetPointDataInformation().GetArrayInformation(
+            "hencky_screen_xy")
+        xr, yr = a.GetComponentRange(0), a.GetComponentRange(1)
+        simple.Delete(calc)
+        if xr[0] <= xr[1] and yr[0] <= yr[1]:
+            return xr, yr
+    except Exception:  # noqa: BLE001 -- fall back to the bounding box
+        pass
+    xs, ys = [], []
+    for i in range(8):
+        p = [bounds[0 + (i & 1)], bounds[2 + ((i >> 1) & 1)], bounds[4 + ((i >> 2) & 1)]]
+        xs.append(sum(a * b for a, b in zip(p, r)))
+        ys.append(sum(a * b for a, b in zip(p, u)))
+    return (min(xs), max(xs)), (min(ys), max(ys))
+
+
+def fit_camera(bounds, xr, yr, d, u, r, size, bottom, top, margin=0.06):
+    """Focal point, position and parallel scale of a camera looking along -d with u up that
+    shows the points (screen coordinates x.r in xr, x.u in yr) inside the image of `size`
+    pixels less `bottom` and `top` pixel bands, with a relative margin."""
+    w, h = float(size[0]), float(size[1])
+    avail_w = w * (1 - 2 * margin)
+    avail_h = max(h - bottom - top, 0.2 * h) * (1 - 2 * margin)
+    per_pixel = max((xr[1] - xr[0]) / avail_w, (yr[1] - yr[0]) / avail_h)
+    if per_pixel <= 0:
+        per_pixel = 1.0 / h
+    # The middle of the points goes to the middle of the free band, `lift` pixels above the
+    # image centre.
+    lift = (bottom + 0.5 * (h - bottom - top)) - 0.5 * h
+    xc, yc = 0.5 * (xr[0] + xr[1]), 0.5 * (yr[0] + yr[1])
+    c = [0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+         0.5 * (bounds[4] + bounds[5])]
+    depth = sum(a * b for a, b in zip(c, d))
+    focal = [xc * r[k] + (yc - lift * per_pixel) * u[k] + depth * d[k] for k in range(3)]
+    diag = math.sqrt((bounds[1] - bounds[0]) ** 2 + (bounds[3] - bounds[2]) ** 2 +
+                     (bounds[5] - bounds[4]) ** 2) or 1.0
+    position = [focal[k] + 2.0 * diag * d[k] for k in range(3)]
+    return focal, position, 0.5 * h * per_pixel
+
+
 def find_array(source, name):
     """('POINTS'|'CELLS', number of components) of the array, or None."""
     info = source.GetDataInformation()
@@ -106,20 +175,6 @@ def main():
     times = [float(tv)] if isinstance(tv, (int, float)) else list(tv or [])
     t = args.time if args.time is not None else (times[-1] if times else None)
 
-    view = simple.CreateView("RenderView")
-    view.ViewSize = args.size
-    if hasattr(view, "UseColorPaletteForBackground"):
-        view.UseColorPaletteForBackground = 0
-    view.Background = [1.0, 1.0, 1.0]
-    view.OrientationAxesVisibility = 1
-    if hasattr(view, "OrientationAxesLabelColor"):
-        view.OrientationAxesLabelColor = [0.0, 0.0, 0.0]
-    if t is not None:
-        view.ViewTime = t
-        scene = simple.GetAnimationScene()
-        scene.UpdateAnimationUsingDataTimeSteps()
-        scene.AnimationTime = t
-
     source = reader
     source.UpdatePipeline(t) if t is not None else source.UpdatePipeline()
     if args.warp:
@@ -144,6 +199,21 @@ def main():
         print("error: '%s' has %d component(s), no component %d"
               % (args.field, n_comp, args.component), file=sys.stderr)
         return 1
+
+    # The view only now: after an error above, the X window's teardown would add noise.
+    view = simple.CreateView("RenderView")
+    view.ViewSize = args.size
+    if hasattr(view, "UseColorPaletteForBackground"):
+        view.UseColorPaletteForBackground = 0
+    view.Background = [1.0, 1.0, 1.0]
+    view.OrientationAxesVisibility = 1
+    if hasattr(view, "OrientationAxesLabelColor"):
+        view.OrientationAxesLabelColor = [0.0, 0.0, 0.0]
+    if t is not None:
+        view.ViewTime = t
+        scene = simple.GetAnimationScene()
+        scene.UpdateAnimationUsingDataTimeSteps()
+        scene.AnimationTime = t
 
     display = simple.Show(source, view)
     display.SetRepresentationType("Surface With Edges" if args.edges else "Surface")
@@ -184,10 +254,11 @@ def main():
         bar.TitleFontSize = 18
         bar.LabelFontSize = 16
         bar.RangeLabelFormat = "%-#.4g"
-        bar.WindowLocation = "Any Location"
-        bar.Orientation = "Vertical"
-        bar.Position = [0.89, 0.12]
-        bar.ScalarBarLength = 0.7
+        # Horizontal, at the bottom: long titles and wide labels do not collide there.
+        bar.Orientation = "Horizontal"
+        bar.WindowLocation = "Lower Center"
+        bar.ScalarBarLength = 0.5
+        bar.ScalarBarThickness = 16
 
     if args.title:
         text = simple.Text(Text=args.title)
@@ -196,21 +267,25 @@ def main():
         td.FontSize = 22
         td.Color = [0.0, 0.0, 0.0]
 
-    # Camera: look at the (deformed) body along the chosen direction, then fit.
+    # Camera: parallel projection along the chosen direction, fitted so that the (deformed)
+    # body's bounding box fills the image between the title and the colour bar.
     directions = {"iso": ((1.0, 1.0, 1.0), (0.0, 0.0, 1.0)),
                   "x": ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),
                   "y": ((0.0, -1.0, 0.0), (0.0, 0.0, 1.0)),
                   "z": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))}
-    d, up = directions[args.camera]
+    d, u, r = screen_frame(*directions[args.camera])
     b = source.GetDataInformation().GetBounds()
-    c = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
-    view.CameraFocalPoint = c
-    view.CameraPosition = [c[k] + d[k] for k in range(3)]
-    view.CameraViewUp = list(up)
-    view.CameraParallelProjection = 0
-    view.ResetCamera()
-    if args.camera == "iso":
-        simple.GetActiveCamera().Dolly(1.15)  # the bounding sphere is loose along a diagonal
+    xr, yr = screen_extents(source, r, u, b, t)
+    focal, position, scale = fit_camera(b, xr, yr, d, u, r, args.size,
+                                        bottom=0 if args.no_colorbar else BAR_PIXELS,
+                                        top=TITLE_PIXELS if args.title else 0)
+    simple.Render(view)  # the first render resets the camera: get that over with
+    view.CameraParallelProjection = 1
+    view.CameraFocalPoint = focal
+    view.CameraPosition = position
+    view.CameraViewUp = u
+    view.CameraParallelScale = scale
+    view.CenterOfRotation = focal
 
     simple.Render(view)
     simple.SaveScreenshot(args.out, view, ImageResolution=args.size, TransparentBackground=0)

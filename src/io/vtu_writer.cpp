@@ -67,7 +67,12 @@ const TypeInfo& info(CellType t) {
 
 // ---- Output ------------------------------------------------------------------------------
 
-std::string describe(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string describe(const std::filesystem::path& p) {
+  std::string s(1, '\'');  // appended piecewise: "'" + s + "'" trips GCC 12's -Wrestrict
+  s += p.string();
+  s += '\'';
+  return s;
+}
 
 /// A file written to path.tmp through a large buffer, renamed to path by commit().
 /// Removed again if destroyed without commit() (an exception on the way).
