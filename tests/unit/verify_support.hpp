@@ -1,0 +1,403 @@
+#pragma once
+// Shared helpers of the verification tests (test_verify_*.cpp, test_patch_*.cpp): temporary case
+// directories, writing meshes and case files, running a case in-process, error norms by
+// quadrature with a rule finer than the solver's, observed convergence rates, and a writer of
+// distorted structured cube meshes (Gmsh format 2 ASCII) for every volume cell type.
+//
+// Nothing here knows an answer: the analytic solutions live in the tests.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fem/geometry.hpp"
+#include "fem/quadrature.hpp"
+#include "fem/reference_element.hpp"
+#include "io/results.hpp"
+#include "solve/driver.hpp"
+
+namespace hencky::verify {
+
+namespace fs = std::filesystem;
+
+/// A number written so that it reads back to the same double.
+inline std::string num(double v) { return fmt::format("{:.17g}", v); }
+
+/// A fresh directory under the system temp dir, removed on destruction (kept when the
+/// environment variable HENCKY_VERIFY_KEEP is set, to look at the cases).
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    static int counter = 0;
+    const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+    path_ = fs::temp_directory_path() /
+            fmt::format("hencky-verify-{}-{}-{}-{}", tag, ::getpid(), counter++, stamp % 1000000);
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    if (std::getenv("HENCKY_VERIFY_KEEP")) return;
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+inline void write_file(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+  out << text;
+}
+
+/// A case run in-process; keeps the log alive with the run.
+struct Run {
+  Log log;
+  std::unique_ptr<InProcessRun> run;
+  const Model& model() const { return *run->loaded.model; }
+  const State& state() const { return run->states.last; }
+  Vec3 u(int node) const {
+    const auto& s = state().u;
+    return {s[3 * node], s[3 * node + 1], s[3 * node + 2]};
+  }
+};
+
+/// Writes the case file into `dir` and runs it. Throws (GoogleTest then fails the test with
+/// the message) when the analysis does not converge, so that no check runs on a missing state.
+inline std::unique_ptr<Run> run_case(const fs::path& dir, const std::string& yaml,
+                                     const std::string& name = "case.yaml") {
+  const fs::path file = dir / name;
+  write_file(file, yaml);
+  auto r = std::make_unique<Run>();
+  r->log.quiet = true;
+  r->run = run_in_process(file, r->log);
+  if (r->run->result.status != AnalysisStatus::converged || r->run->states.reports.empty())
+    throw std::runtime_error(fmt::format("{}: the analysis did not converge: {}", file.string(),
+                                         r->run->result.failure));
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------
+// Norms by quadrature
+
+/// A quadrature degree well above the solver's own, for error integrals.
+inline int error_degree(CellType t) {
+  switch (t) {
+    case CellType::tet4:
+    case CellType::tet10: return 5;  // 14 points, the highest tetrahedral rule
+    case CellType::hex8:
+    case CellType::hex20: return 9;  // 5x5x5 Gauss
+    case CellType::wedge6: return 6;
+    default: return max_quadrature_degree(t);
+  }
+}
+
+using VectorField = std::function<Vec3(const Vec3&)>;
+using StressField = std::function<Voigt(const Vec3&)>;
+
+struct L2Norms {
+  double error = 0;   ///< ‖u_h − u‖
+  double exact = 0;   ///< ‖u‖
+  double volume = 0;  ///< of the mesh, by the same quadrature
+  int cells = 0;
+  double relative() const { return error / exact; }
+  /// Mean cell size (volume / cells)^(1/3): a mesh size that also means something for
+  /// unstructured meshes.
+  double h() const { return std::cbrt(volume / cells); }
+};
+
+/// L2 norm of the displacement error over the cells, u_h interpolated with the cells' shape
+/// functions and integrated on the cells' own (isoparametric) geometry with error_degree().
+inline L2Norms l2_displacement_error(const Model& model, const State& state, const VectorField& exact) {
+  const Mesh& mesh = model.mesh();
+  L2Norms out;
+  double e2 = 0, u2 = 0;
+  Vec3 x[max_cell_nodes];
+  double dNdx[3 * max_cell_nodes];
+  for (int c = 0; c < mesh.cells.size(); ++c) {
+    const auto nodes = mesh.cells.nodes(c);
+    const int n = static_cast<int>(nodes.size());
+    const CellType type = mesh.cells.type[c];
+    const auto& tab = reference_table(type, error_degree(type));
+    for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
+    const std::span<const Vec3> xs(x, n);
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
+      const Vec3 p = point_position(tab, q, xs);
+      const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+      Vec3 uh = Vec3::Zero();
+      for (int a = 0; a < n; ++a)
+        uh += N[a] * Vec3(state.u[3 * nodes[a]], state.u[3 * nodes[a] + 1], state.u[3 * nodes[a] + 2]);
+      const Vec3 ue = exact(p);
+      e2 += (uh - ue).squaredNorm() * dv;
+      u2 += ue.squaredNorm() * dv;
+      out.volume += dv;
+    }
+  }
+  out.error = std::sqrt(e2);
+  out.exact = std::sqrt(u2);
+  out.cells = mesh.cells.size();
+  return out;
+}
+
+/// L2 norm of the stress error sampled at the solver's own integration points (the stresses
+/// the solver computed), weighted by their quadrature weights: ‖σ_h − σ‖ / ‖σ‖ (Frobenius
+/// norm of the Voigt vectors with shear counted twice, i.e. of the tensor).
+inline double l2_stress_error(const Model& model, const State& state, const StressField& exact) {
+  const Mesh& mesh = model.mesh();
+  double e2 = 0, s2 = 0;
+  Vec3 x[max_cell_nodes];
+  double dNdx[3 * max_cell_nodes];
+  auto tensor_sq = [](const Voigt& v) {
+    return v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + 2 * (v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+  };
+  for (int c = 0; c < mesh.cells.size(); ++c) {
+    const auto nodes = mesh.cells.nodes(c);
+    const int n = static_cast<int>(nodes.size());
+    const auto& tab = reference_table(mesh.cells.type[c]);
+    for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
+    const std::span<const Vec3> xs(x, n);
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
+      const Voigt se = exact(point_position(tab, q, xs));
+      e2 += tensor_sq(state.stress[model.point_offset(c) + q] - se) * dv;
+      s2 += tensor_sq(se) * dv;
+    }
+  }
+  return std::sqrt(e2 / s2);
+}
+
+/// Least-squares slope of log(error) against log(h): the observed order of convergence.
+inline double observed_rate(const std::vector<double>& h, const std::vector<double>& e) {
+  const std::size_t n = h.size();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double lx = std::log(h[i]), ly = std::log(e[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+/// Prints a line the reader of the test log (and docs/verification.md) can find.
+inline void report(const std::string& what) { std::cout << "[verify] " << what << std::endl; }
+
+// ------------------------------------------------------------------------------------------
+// Linear fields
+
+/// Voigt strain (engineering shears) of the displacement gradient G (G(i, j) = du_i/dx_j).
+inline Voigt strain_of_gradient(const Mat3& G) {
+  Voigt e;
+  e << G(0, 0), G(1, 1), G(2, 2), G(1, 2) + G(2, 1), G(2, 0) + G(0, 2), G(0, 1) + G(1, 0);
+  return e;
+}
+
+/// muparser expression of component i of u = c + G x.
+inline std::string linear_expression(const Mat3& G, const Vec3& c, int i) {
+  return fmt::format("{} + {}*x + {}*y + {}*z", num(c[i]), num(G(i, 0)), num(G(i, 1)), num(G(i, 2)));
+}
+
+// ------------------------------------------------------------------------------------------
+// Distorted structured cube meshes written by hand (Gmsh MSH 2.2 ASCII)
+
+enum class GridCells { hex8, hex20, wedge6, mixed };
+
+inline const char* to_string(GridCells k) {
+  switch (k) {
+    case GridCells::hex8: return "hex8";
+    case GridCells::hex20: return "hex20";
+    case GridCells::wedge6: return "wedge6";
+    case GridCells::mixed: return "mixed hex8+wedge6";
+  }
+  return "?";
+}
+
+/// The cube [0, L]^3 cut into n^3 hexahedra (or each hexahedron into two wedges, or a mix: the
+/// wedge columns are those with i + j even), with every interior node moved by up to
+/// `distortion` times the grid step in each direction (deterministic pseudo-random). Quadratic
+/// hexahedra get their mid-edge nodes at the midpoints of the (moved) corners, so that their
+/// geometry stays trilinear.
+///
+/// Regions: volume "body"; surfaces x0 x1 y0 y1 z0 z1 (the faces of the cube); points p000,
+/// p100, p010, p001 (corners of the cube).
+inline std::string cube_msh(int n, GridCells kind, double distortion, double L = 1.0,
+                            std::uint32_t seed = 12345) {
+  std::mt19937 rng(seed);
+  auto rnd = [&] { return 2.0 * (static_cast<double>(rng()) / 4294967295.0) - 1.0; };
+  const int m = n + 1;
+  const double step = L / n;
+  std::vector<Vec3> x;
+  auto id = [&](int i, int j, int k) { return 1 + i + m * (j + m * k); };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        Vec3 p(i * step, j * step, k * step);
+        if (i > 0 && i < n && j > 0 && j < n && k > 0 && k < n)
+          for (int d = 0; d < 3; ++d) p[d] += distortion * step * rnd();
+        x.push_back(p);
+      }
+  const bool quadratic = kind == GridCells::hex20;
+  std::map<std::pair<int, int>, int> mid;
+  auto midnode = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    auto it = mid.find(key);
+    if (it != mid.end()) return it->second;
+    x.push_back(0.5 * (x[a - 1] + x[b - 1]));
+    const int tag = static_cast<int>(x.size());
+    mid.emplace(key, tag);
+    return tag;
+  };
+  auto is_wedge_column = [&](int i, int j) {
+    return kind == GridCells::wedge6 || (kind == GridCells::mixed && (i + j) % 2 == 0);
+  };
+
+  struct Element {
+    int type, physical, entity;
+    std::vector<int> nodes;
+  };
+  std::vector<Element> elements;
+  // Physical tags: 1 body; 11..16 faces; 21..24 points.
+  const std::array<std::pair<int, int>, 4> points{{{21, id(0, 0, 0)}, {22, id(n, 0, 0)},
+                                                   {23, id(0, n, 0)}, {24, id(0, 0, n)}}};
+  for (auto [tag, node] : points) elements.push_back({15, tag, tag, {node}});
+
+  constexpr std::array<std::array<int, 2>, 12> hex_edges{{{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5},
+                                                           {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7},
+                                                           {5, 6}, {6, 7}}};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const std::array<int, 8> c{id(i, j, k),         id(i + 1, j, k),     id(i + 1, j + 1, k),
+                                   id(i, j + 1, k),     id(i, j, k + 1),     id(i + 1, j, k + 1),
+                                   id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        if (is_wedge_column(i, j)) {
+          elements.push_back({6, 1, 1, {c[0], c[1], c[2], c[4], c[5], c[6]}});
+          elements.push_back({6, 1, 1, {c[0], c[2], c[3], c[4], c[6], c[7]}});
+        } else if (quadratic) {
+          Element e{17, 1, 1, {c.begin(), c.end()}};
+          for (auto [a, b] : hex_edges) e.nodes.push_back(midnode(c[a], c[b]));
+          elements.push_back(e);
+        } else {
+          elements.push_back({5, 1, 1, {c.begin(), c.end()}});
+        }
+        // Boundary faces of this cell.
+        auto quad = [&](int tag, int a, int b, int cc, int d) {
+          Element f{quadratic ? 16 : 3, tag, tag, {c[a], c[b], c[cc], c[d]}};
+          if (quadratic)
+            for (auto [p, q] : std::array<std::array<int, 2>, 4>{{{a, b}, {b, cc}, {cc, d}, {d, a}}})
+              f.nodes.push_back(midnode(c[p], c[q]));
+          elements.push_back(f);
+        };
+        if (i == 0) quad(11, 0, 3, 7, 4);
+        if (i == n - 1) quad(12, 1, 2, 6, 5);
+        if (j == 0) quad(13, 0, 1, 5, 4);
+        if (j == n - 1) quad(14, 3, 2, 6, 7);
+        for (int side = 0; side < 2; ++side) {
+          if (k != (side == 0 ? 0 : n - 1)) continue;
+          const int tag = side == 0 ? 15 : 16, o = side == 0 ? 0 : 4;
+          if (is_wedge_column(i, j)) {
+            elements.push_back({2, tag, tag, {c[o], c[o + 1], c[o + 2]}});
+            elements.push_back({2, tag, tag, {c[o], c[o + 2], c[o + 3]}});
+          } else {
+            quad(tag, o, o + 1, o + 2, o + 3);
+          }
+        }
+      }
+
+  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n11\n";
+  s += "3 1 \"body\"\n";
+  const char* faces[] = {"x0", "x1", "y0", "y1", "z0", "z1"};
+  for (int f = 0; f < 6; ++f) s += fmt::format("2 {} \"{}\"\n", 11 + f, faces[f]);
+  const char* corners[] = {"p000", "p100", "p010", "p001"};
+  for (int p = 0; p < 4; ++p) s += fmt::format("0 {} \"{}\"\n", 21 + p, corners[p]);
+  s += fmt::format("$EndPhysicalNames\n$Nodes\n{}\n", x.size());
+  for (std::size_t a = 0; a < x.size(); ++a)
+    s += fmt::format("{} {} {} {}\n", a + 1, num(x[a].x()), num(x[a].y()), num(x[a].z()));
+  s += fmt::format("$EndNodes\n$Elements\n{}\n", elements.size());
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    s += fmt::format("{} {} 2 {} {}", e + 1, elements[e].type, elements[e].physical,
+                     elements[e].entity);
+    for (int v : elements[e].nodes) s += fmt::format(" {}", v);
+    s += "\n";
+  }
+  return s + "$EndElements\n";
+}
+
+/// A box [0,Lx] x [0,Ly] x [0,Lz] for Gmsh's built-in kernel, meshed into unstructured
+/// tetrahedra of size h at run time. Regions as cube_msh(): body; x0 x1 y0 y1 z0 z1;
+/// p000 p100 p010 p001.
+inline std::string box_geo(double Lx, double Ly, double Lz, double h) {
+  return fmt::format(R"(Lx = {}; Ly = {}; Lz = {}; h = {};
+Mesh.CharacteristicLengthMax = h;
+Point(1) = {{0, 0, 0, h}}; Point(2) = {{Lx, 0, 0, h}}; Point(3) = {{Lx, Ly, 0, h}}; Point(4) = {{0, Ly, 0, h}};
+Point(5) = {{0, 0, Lz, h}}; Point(6) = {{Lx, 0, Lz, h}}; Point(7) = {{Lx, Ly, Lz, h}}; Point(8) = {{0, Ly, Lz, h}};
+Line(1) = {{1, 2}}; Line(2) = {{2, 3}}; Line(3) = {{3, 4}}; Line(4) = {{4, 1}};
+Line(5) = {{5, 6}}; Line(6) = {{6, 7}}; Line(7) = {{7, 8}}; Line(8) = {{8, 5}};
+Line(9) = {{1, 5}}; Line(10) = {{2, 6}}; Line(11) = {{3, 7}}; Line(12) = {{4, 8}};
+Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
+Curve Loop(2) = {{5, 6, 7, 8}}; Plane Surface(2) = {{2}};
+Curve Loop(3) = {{1, 10, -5, -9}}; Plane Surface(3) = {{3}};
+Curve Loop(4) = {{2, 11, -6, -10}}; Plane Surface(4) = {{4}};
+Curve Loop(5) = {{3, 12, -7, -11}}; Plane Surface(5) = {{5}};
+Curve Loop(6) = {{4, 9, -8, -12}}; Plane Surface(6) = {{6}};
+Surface Loop(1) = {{1, 2, 3, 4, 5, 6}}; Volume(1) = {{1}};
+Physical Volume("body") = {{1}};
+Physical Surface("x0") = {{6}}; Physical Surface("x1") = {{4}};
+Physical Surface("y0") = {{3}}; Physical Surface("y1") = {{5}};
+Physical Surface("z0") = {{1}}; Physical Surface("z1") = {{2}};
+Physical Point("p000") = {{1}}; Physical Point("p100") = {{2}};
+Physical Point("p010") = {{4}}; Physical Point("p001") = {{5}};
+)",
+                     num(Lx), num(Ly), num(Lz), num(h));
+}
+
+/// A quarter of the ring a <= r <= b (x, y >= 0) of thickness t along z, structured: nr
+/// divisions radially, nt around, one layer through the thickness. `cells`: "tet" (each prism
+/// split into tetrahedra), "wedge" (triangles extruded into prisms), "hex" (recombined).
+/// Regions: body; inner outer (the arcs); xsym (x = 0) ysym (y = 0); bottom (z = 0) top (z = t).
+inline std::string quarter_ring_geo(double a, double b, double t, int nr, int nt, const std::string& cells) {
+  const bool hex = cells == "hex", wedge = cells == "wedge";
+  return fmt::format(R"(a = {}; b = {}; t = {};
+Point(1) = {{0, 0, 0}}; Point(2) = {{a, 0, 0}}; Point(3) = {{b, 0, 0}}; Point(4) = {{0, b, 0}}; Point(5) = {{0, a, 0}};
+Line(1) = {{2, 3}}; Circle(2) = {{3, 1, 4}}; Line(3) = {{4, 5}}; Circle(4) = {{5, 1, 2}};
+Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
+Transfinite Curve{{1, 3}} = {}; Transfinite Curve{{2, 4}} = {}; Transfinite Surface{{1}};
+{}
+out[] = Extrude {{0, 0, t}} {{ Surface{{1}}; Layers{{1}}; {} }};
+Physical Volume("body") = {{out[1]}};
+Physical Surface("bottom") = {{1}};
+Physical Surface("top") = {{out[0]}};
+Physical Surface("ysym") = {{out[2]}};
+Physical Surface("outer") = {{out[3]}};
+Physical Surface("xsym") = {{out[4]}};
+Physical Surface("inner") = {{out[5]}};
+)",
+                     num(a), num(b), num(t), nr + 1, nt + 1, hex ? "Recombine Surface{1};" : "",
+                     hex || wedge ? "Recombine;" : "");
+}
+
+}  // namespace hencky::verify
