@@ -49,8 +49,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   try {
     result = run_analysis(model, *solver, log, timings, writer);
   } catch (const InputError&) {
-    std::error_code ec;
-    fs::remove_all(writer.work_dir(), ec);  // bad input: nothing is overwritten or left behind
+    writer.abandon();  // bad input: nothing is overwritten or left behind
     throw;
   }
   const auto& st = solver->stats();

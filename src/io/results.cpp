@@ -65,12 +65,29 @@ std::vector<Vec3> region_reactions(const Model& model, const State& state) {
   return out;
 }
 
+namespace {
+/// An existing output directory is replaced only when it is empty or holds hencky results, so
+/// that a mistyped `-o` never deletes an unrelated folder.
+bool replaceable(const fs::path& dir) {
+  if (!fs::exists(dir)) return true;
+  if (!fs::is_directory(dir)) return false;
+  if (fs::is_empty(dir)) return true;
+  return fs::exists(dir / "summary.json") || fs::exists(dir / "results.pvd") ||
+         fs::exists(dir / "hencky.log");
+}
+}  // namespace
+
 ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
     : model_(model), final_dir_(std::move(final_dir)), log_(log) {
+  const SourceLocation where{model.spec().file.string(), 0, 0, "output.dir"};
   const fs::path parent = final_dir_.parent_path();
-  if (!parent.empty() && !fs::exists(parent))
-    throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "output.dir"},
-                     fmt::format("the folder {} does not exist", parent.string()));
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw InputError(where, fmt::format("the folder {} does not exist", parent.string()));
+  if (!replaceable(final_dir_))
+    throw InputError(where, fmt::format("{} exists and is not a hencky output directory (no "
+                                        "summary.json, results.pvd or hencky.log); it is left "
+                                        "alone: choose another output directory",
+                                        final_dir_.string()));
   work_dir_ = final_dir_;
   work_dir_ += fmt::format(".partial-{}", ::getpid());
   fs::remove_all(work_dir_);
@@ -92,8 +109,14 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
 }
 
 ResultWriter::~ResultWriter() {
-  if (!finished_ && !work_dir_.empty())
+  if (!finished_ && !work_dir_.empty() && fs::exists(work_dir_))
     log_.info("results so far are in {}", work_dir_.string());
+}
+
+void ResultWriter::abandon() {
+  std::error_code ec;
+  fs::remove_all(work_dir_, ec);
+  finished_ = true;
 }
 
 void ResultWriter::step_done(const StepReport& report, const State& state) {
@@ -155,11 +178,18 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
     material[e] = model_.material_index(e);
     region[e] = mesh.cell_region[e];
   }
+  // Fields of the contract that a thermo-elastic model without contact holds at zero.
+  zeros_.assign(6 * static_cast<std::size_t>(n), 0.0);
+  const std::span<const double> zero6(zeros_), zero1(zeros_.data(), n);
   const VtuField point_fields[] = {
       {"displacement", 3, state.u},
       {"stress", 6, stress},
       {"von_mises", 1, vm},
       {"temperature", 1, state.nodal_temperature},
+      {"plastic_strain", 6, zero6},
+      {"equivalent_plastic_strain", 1, zero1},
+      {"contact_pressure", 1, zero1},
+      {"contact_state", 1, zero1},
   };
   const VtuField cell_fields[] = {{"stress", 6, cell_stress}, {"von_mises", 1, cell_vm}};
   const VtuIntField int_fields[] = {{"material", material}, {"region", region}};

@@ -39,6 +39,8 @@ class ResultWriter final : public StepObserver {
 
   /// Writes summary.json and moves the directory into place (replacing the old one).
   void finish(nlohmann::json summary);
+  /// Deletes the work directory (the run stopped on bad input: nothing is kept).
+  void abandon();
   /// The last probe and reaction values, as the summary reports them.
   const nlohmann::json& final_values() const { return final_values_; }
 
@@ -49,6 +51,7 @@ class ResultWriter final : public StepObserver {
   std::ofstream history_;
   std::unique_ptr<PvdWriter> pvd_;
   nlohmann::json final_values_;
+  std::vector<double> zeros_;
   bool finished_ = false;
 };
 

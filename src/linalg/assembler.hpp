@@ -55,7 +55,8 @@ class Assembler {
  private:
   template <class F>
   void for_each_cell(F&& f) const {
-#pragma omp parallel
+    // Small meshes run on one thread: a barrier per colour costs more than their cells.
+#pragma omp parallel if (cells_->size() > 4000)
     {
       CellBuffers buffers;  // one per thread, reused for every cell
       for (const auto& color : colors_) {

@@ -49,7 +49,7 @@ class CholmodSolver final : public LinearSolver {
     ++stats_.n_factorizations;
     if (common_.status == CHOLMOD_NOT_POSDEF || factor_->minor < factor_->n)
       throw SolveError(fmt::format(
-          "the stiffness matrix is not positive definite (pivot {} of {} failed)",
+          "the stiffness matrix is singular or not positive definite (pivot {} of {} failed)",
           factor_->minor, factor_->n));
     if (common_.status < CHOLMOD_OK)
       throw SolveError(fmt::format("CHOLMOD factorization failed (status {})", common_.status));

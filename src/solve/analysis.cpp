@@ -76,13 +76,19 @@ class StepSolver {
     std::vector<double>& rhs = rhs_;
     rhs.resize(dofs.n_free);
     delta_.resize(dofs.n_free);
+    // Force scale of the step, fixed at the predictor: the loads, the internal forces before and
+    // after the predictor, and the predictor's residual (which carries thermal and prescribed-
+    // displacement loading). A step whose answer has no load and no stress (free expansion,
+    // unloading to zero) still has a scale, so round-off is recognised as convergence.
+    double f_norm = 0;
     for (iterations = 0;; ++iterations) {
       update_points(c, trial);
-      double f_norm = std::max(norm(trial.f_ext), norm(trial.f_int));
       for (int i = 0; i < dofs.n_dofs(); ++i)
         if (int k = dofs.eq[i]; k >= 0) rhs[k] = target_[i] - trial.f_int[i];
       double r = 0;
       for (double v : rhs) r += v * v;
+      if (iterations == 0)
+        f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(r)});
       residual = f_norm > 0 ? std::sqrt(r) / f_norm : 0.0;
       log_.detail("  iteration {}: relative residual {:.3e}", iterations, residual);
       if (iterations >= 1 && residual <= spec.tolerance) {
@@ -234,11 +240,17 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
   State committed = stepper.initial_state(), trial = committed;
   AnalysisResult result;
 
-  // Targets still to reach; a step that fails is halved (cut back) up to `cutback` times.
-  std::deque<double> targets(spec.times.begin(), spec.times.end());
-  int cuts = 0;
+  // Targets still to reach, each with its cut-back depth: a step that fails is replaced by two
+  // half steps one level deeper, down to `cutback` levels; the run then stops (status 2).
+  struct Target {
+    double time;
+    int depth;
+  };
+  std::deque<Target> targets;
+  for (double t : spec.times) targets.push_back({t, 0});
   while (!targets.empty()) {
-    const double t1 = targets.front();
+    const double t1 = targets.front().time;
+    const int depth = targets.front().depth;
     int iterations = 0;
     double residual = 0;
     bool ok = false;
@@ -258,20 +270,20 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     }
     result.iterations += iterations;
     if (!ok) {
-      if (cuts < spec.cutback) {
-        const double mid = 0.5 * (committed.time + t1);
+      const double mid = 0.5 * (committed.time + t1);
+      if (depth < spec.cutback && mid > committed.time && mid < t1) {
         log.info("step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
-        targets.push_front(mid);
-        ++cuts;
+        targets.front().depth = depth + 1;
+        targets.push_front({mid, depth + 1});
         continue;
       }
       result.status = AnalysisStatus::not_converged;
-      result.failure = fmt::format("step to t = {:g} did not converge: {}", t1, why);
+      result.failure = fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1,
+                                   depth, why);
       log.info("{}", result.failure);
       return result;
     }
     targets.pop_front();
-    cuts = 0;
     std::swap(committed, trial);
     ++result.steps;
     StepReport report{result.steps, t1, iterations, residual, targets.empty()};

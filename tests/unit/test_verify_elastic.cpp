@@ -300,11 +300,6 @@ TEST(VerifyEquilibrium, ForceRegionTotalIsTheGivenForce) {
 // Elastic load-unload: a uniform tension ramped up to t = 1 and back to zero at t = 2 must end
 // exactly where it started (u = 0, σ = 0) in the two requested steps.
 TEST(VerifyUnloading, BackToZeroLoadEndsUndeformed) {
-  GTEST_SKIP() << "bug: src/solve/analysis.cpp:81-86 measures the residual relative to "
-                  "max(|f_ext|, |f_int|) of the iterate, which is round-off when the load and the "
-                  "answer are zero, so the last step never converges; the cut-back then restarts "
-                  "its count after every converged sub-step (analysis.cpp:274) and halves down to "
-                  "zero-length steps (see docs/verification.md)";
   TempDir dir("unload");
   write_file(dir / "cube.msh", cube_msh(2, GridCells::hex8, 0.2));
   auto r = run_case(dir.path(), fmt::format("title: unload\nmesh:\n  file: cube.msh\n{}boundary:\n"

@@ -70,17 +70,13 @@ for a in PointData:displacement:3 PointData:stress:6 PointData:von_mises:1 Point
 done
 if [ -z "$missing" ]; then ok "step_0002.vtu: displacement, stress, von_mises, temperature; cell material, region, stress, von_mises"
 else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
-# BUG: the contract lists point arrays plastic_strain (6), equivalent_plastic_strain,
-# contact_pressure and contact_state (and cell data "the same stress measures"), but hencky 0.1
-# writes none of them (src/io/results.cpp, ResultWriter::step_done), although history.csv and
-# summary.json do carry <probe>.equivalent_plastic_strain = 0. Enable when they are written:
-# missing=""
-# for a in PointData:plastic_strain:6 PointData:equivalent_plastic_strain:1 \
-#          PointData:contact_pressure:1 PointData:contact_state:1; do
-#   grep -qw -- "$a" <<<"$arrays" || missing="$missing $a"
-# done
-# if [ -z "$missing" ]; then ok "step_0002.vtu: plastic and contact arrays of the contract"
-# else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
+missing=""
+for a in PointData:plastic_strain:6 PointData:equivalent_plastic_strain:1 \
+         PointData:contact_pressure:1 PointData:contact_state:1; do
+  grep -qw -- "$a" <<<"$arrays" || missing="$missing $a"
+done
+if [ -z "$missing" ]; then ok "step_0002.vtu: plastic and contact arrays of the contract"
+else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
 
 # --- history.csv: the header of the contract, one row per step, final row = summary.
 cols="step,time,iterations,residual"
@@ -126,13 +122,10 @@ if [ "$(stat -c %Y "$o/summary.json" 2>/dev/null || echo 0)" -gt 1600000000 ] &&
    [ -z "$(ls -d "$o".* 2>/dev/null)" ]; then
   ok "run into an existing -o DIR: new results, no partial or old copies left"
 else bad "run into an existing -o DIR: old results or leftovers" "$(ls -la --time-style=full-iso "$o" "$o".* 2>&1)"; fi
-# BUG: -o naming an existing regular FILE (not a directory) deletes that file and puts the
-# results directory in its place, exit 0 (ResultWriter::finish renames it away and removes it,
-# src/io/results.cpp). Expected: exit 1, an error naming the path, the file untouched. Enable:
-# echo "precious" >"$od/a-file"
-# expect "run -o FILE: refused (exit 1)" 1 "a-file" -- run "$od/case.yaml" -o "$od/a-file" --quiet
-# if [ "$(cat "$od/a-file" 2>/dev/null)" = "precious" ]; then ok "run -o FILE: the file is kept"
-# else bad "run -o FILE: the file was replaced" "$(ls -la "$od/a-file" 2>&1)"; fi
+echo "precious" >"$od/a-file"
+expect "run -o FILE: refused (exit 1)" 1 "a-file" -- run "$od/case.yaml" -o "$od/a-file" --quiet
+if [ "$(cat "$od/a-file" 2>/dev/null)" = "precious" ]; then ok "run -o FILE: the file is kept"
+else bad "run -o FILE: the file was replaced" "$(ls -la "$od/a-file" 2>&1)"; fi
 
 # --- --threads 1 gives the same numbers.
 expect "run --threads 1" 0 "" -- run "$od/case.yaml" -o "$od/one-thread" --threads 1 --quiet
@@ -179,3 +172,10 @@ ex_check "exit 2: status not-converged, step 1 written and kept" "$od/stuck.out/
 s["status"] == "not-converged" and s["steps"] == 1 and "failure" in s
 and os.path.exists(sys.argv[1].replace("summary.json", "step_0001.vtu"))
 and "step_0001.vtu" in open(sys.argv[1].replace("summary.json", "results.pvd")).read()'
+
+# --- -o naming an existing folder that is not a hencky output: refused, left alone.
+mkdir -p "$od/not-results"; echo "precious" >"$od/not-results/thesis.tex"
+expect "run -o on an unrelated folder: refused (exit 1)" 1 "not a hencky output directory" -- run "$od/case.yaml" -o "$od/not-results" --quiet
+if [ "$(cat "$od/not-results/thesis.tex" 2>/dev/null)" = "precious" ] && [ -z "$(ls -d "$od"/not-results.* 2>/dev/null)" ]; then
+  ok "run -o on an unrelated folder: its files are kept"
+else bad "run -o on an unrelated folder: changed" "$(ls -la "$od/not-results" 2>&1)"; fi

@@ -119,12 +119,7 @@ ex_variant support 's/displacement: \{x: 0, y: 0, z: 0\}/displacement: {z: 0}/'
 ex_bad "bad input: only z fixed on one face (singular stiffness), direct solver" \
   "support\.yaml: 'boundary': the stiffness matrix is (singular|not positive definite).*not held against rigid-body motion" \
   "$bd/support.yaml"
-# BUG: an insufficiently supported body should be reported as singular; CHOLMOD reports the
-# semi-definite matrix as "not positive definite (pivot 153 of 160 failed)" every time (beam,
-# plate and cylinder meshes, order 1 and 2), so the "singular" branch of
-# src/linalg/cholmod_solver.cpp (the rcond check) is never reached for an unsupported body.
-# The message is still right about the cause (rigid-body motion), checked above. Enable:
-# ex_bad "bad input: insufficient support: the message says singular" "singular" "$bd/support.yaml"
+ex_bad "bad input: insufficient support: the message says singular" "singular" "$bd/support.yaml"
 ex_variant support-cg 's/displacement: \{x: 0, y: 0, z: 0\}/displacement: {z: 0}/; s/^solver: \{steps: 2\}/solver: {steps: 2, linear: iterative}/'
 ex_bad "bad input: only z fixed on one face, iterative solver" \
   "support-cg\.yaml: 'boundary': .*not held against rigid-body motion" "$bd/support-cg.yaml"
@@ -144,9 +139,7 @@ ex_variant late-nan 's/"-1000\*t"/"t > 0.6 ? sqrt(-1) : -1000*t"/'
 EX_ALLOW_NAN=1 ex_bad "bad input: expression not finite at step 2 (after step 1 was solved)" \
   "late-nan\.yaml:12:[0-9]+: 'boundary\[1\]\.force\[2\]': force: \"t > 0\.6 \? sqrt\(-1\) : -1000\*t\" gives -?nan at .*t=1; expected a finite value" \
   "$bd/late-nan.yaml"
-# BUG: on that error hencky prints "results so far are in <case>.out.partial-<pid>" (from
-# ResultWriter::~ResultWriter, src/io/results.cpp) after app/main.cpp has already deleted that
-# directory; the line points at a folder that does not exist. Enable when fixed:
-# out="$("$bin" run "$bd/late-nan.yaml" 2>&1)"
-# if ! grep -q "results so far are in" <<<"$out"; then ok "bad input: no pointer to deleted partial results"
-# else bad "bad input: points at deleted partial results" "$out"; fi
+# No pointer to partial results that were deleted with the bad input.
+out="$("$bin" run "$bd/late-nan.yaml" 2>&1)"
+if ! grep -q "results so far are in" <<<"$out"; then ok "bad input: no pointer to deleted partial results"
+else bad "bad input: points at deleted partial results" "$out"; fi
