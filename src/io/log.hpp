@@ -20,8 +20,10 @@ class Log {
   template <class... A>
   void detail(fmt::format_string<A...> f, A&&... a) { lines_.push_back(fmt::format(f, std::forward<A>(a)...)); flush(); }
   /// A warning, printed once however often it is raised.
-  void warn(const std::string& text) {
-    if (!warned_.insert(text).second) return;
+  void warn(const std::string& text) { warn_once(text, text); }
+  /// A warning printed only the first time `key` is raised (the text may vary, e.g. with values).
+  void warn_once(const std::string& key, const std::string& text) {
+    if (!warned_.insert(key).second) return;
     warnings_.push_back(text);
     emit("warning: " + text, true);
   }

@@ -26,10 +26,12 @@ void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
   for (const PropertyTable* p : {&spec->E, &spec->nu, &spec->alpha}) {
     if (p->is_constant()) continue;
     if (T_min < p->temperature.front() || T_max > p->temperature.back())
-      log.warn(fmt::format("material '{}': temperatures {:g} .. {:g} leave the table of '{}' "
-                           "({:g} .. {:g}); the end values are used outside it",
-                           spec->name, T_min, T_max, p->where.key, p->temperature.front(),
-                           p->temperature.back()));
+      log.warn_once("table:" + p->where.key,
+                    fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
+                                "leave the table of '{}' ({:g} .. {:g}); the end values are used "
+                                "outside it (warned once)",
+                                spec->name, T_min, T_max, p->where.key, p->temperature.front(),
+                                p->temperature.back()));
   }
 }
 
