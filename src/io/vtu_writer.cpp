@@ -96,6 +96,7 @@ class AtomicFile {
   }
 
   void write(const void* p, std::size_t n) {
+    if (n == 0) return;  // an empty array may come with a null pointer
     if (n_ + n > buf_.size()) {
       flush();
       if (n > buf_.size()) {
