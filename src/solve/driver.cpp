@@ -48,6 +48,7 @@ std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_f
                                        : LinearSolverKind::direct);
   Timings timings;
   r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states);
+  r->solver_stats = solver->stats();
   return r;
 }
 

@@ -41,6 +41,7 @@ struct InProcessRun {
   LoadedCase loaded;
   AnalysisResult result;
   KeepLastState states;
+  LinearSolverStats solver_stats;  ///< analyses, factorizations, solves of the run
 };
 std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log);
 

@@ -54,3 +54,26 @@ TEST(StepControl, ElasticStepsTakeOneIterationEach) {
   }
   EXPECT_DOUBLE_EQ(r->states.reports.back().time, 1.0);
 }
+
+// The symbolic analysis is done once; a factorization is reused while the matrix does not
+// change (E and ν constant: one for all steps, even as the temperature changes) and redone per
+// step when E(T) makes the matrix change.
+TEST(StepControl, FactorizationReusedWhileTheMatrixDoesNotChange) {
+  for (const bool e_of_t : {false, true}) {
+    TempDir dir(e_of_t ? "refactor" : "reuse");
+    write_file(dir / "cube.msh", cube_msh(2, GridCells::hex8, 0.1));
+    const std::string E = e_of_t ? "{temperature: [0, 500], value: [2.1e11, 1.6e11]}" : "2.0e11";
+    write_file(dir / "case.yaml",
+               "mesh: {file: cube.msh}\nmaterials: [{E: " + E + ", nu: 0.3, alpha: 1.2e-5}]\n"
+               "temperature: {reference: 20, field: \"20 + 300*t*x\"}\nboundary:\n"
+               "  - {region: x0, displacement: {x: 0, y: 0, z: 0}}\n"
+               "  - {region: x1, traction: [\"1e6*t\", 0, 0]}\nsolver: {steps: 3}\n");
+    Log log;
+    log.quiet = true;
+    auto r = run_in_process(dir / "case.yaml", log);
+    ASSERT_EQ(r->result.status, AnalysisStatus::converged);
+    EXPECT_EQ(r->solver_stats.n_analyses, 1);
+    EXPECT_EQ(r->solver_stats.n_factorizations, e_of_t ? 3 : 1);
+    EXPECT_EQ(r->solver_stats.n_solves, 3);
+  }
+}
