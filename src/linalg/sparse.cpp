@@ -21,9 +21,8 @@ std::int64_t SymmetricPattern::find(std::int64_t i, std::int64_t j) const {
   return (it != e && *it == i) ? it - row.begin() : -1;
 }
 
-namespace {
-/// node -> cells incidence (CSR)
-void node_cells(const CellSet& cells, int n_nodes, std::vector<int>& ptr, std::vector<int>& idx) {
+void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
+                         std::vector<int>& idx) {
   ptr.assign(n_nodes + 1, 0);
   for (int n : cells.conn) ++ptr[n + 1];
   for (int i = 0; i < n_nodes; ++i) ptr[i + 1] += ptr[i];
@@ -32,11 +31,10 @@ void node_cells(const CellSet& cells, int n_nodes, std::vector<int>& ptr, std::v
   for (int c = 0; c < cells.size(); ++c)
     for (int n : cells.nodes(c)) idx[fill[n]++] = c;
 }
-}  // namespace
 
 SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs) {
   std::vector<int> nc_ptr, nc_idx;
-  node_cells(cells, n_nodes, nc_ptr, nc_idx);
+  node_cell_incidence(cells, n_nodes, nc_ptr, nc_idx);
 
   // Neighbour nodes of every node (including itself), sorted.
   std::vector<std::vector<int>> neighbours(n_nodes);

@@ -28,6 +28,10 @@ struct SymmetricPattern {
   std::int64_t find(std::int64_t i, std::int64_t j) const;
 };
 
+/// Cells around each node (CSR): the cells of node n are idx[ptr[n] .. ptr[n+1]).
+void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
+                         std::vector<int>& idx);
+
 /// Pattern of the free dofs coupled through the cells. Runs in parallel over nodes.
 SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs);
 

@@ -133,19 +133,6 @@ void Model::check_cells() {
   }
 }
 
-namespace {
-/// node -> cells incidence
-void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
-                         std::vector<int>& idx) {
-  ptr.assign(n_nodes + 1, 0);
-  for (int n : cells.conn) ++ptr[n + 1];
-  for (int i = 0; i < n_nodes; ++i) ptr[i + 1] += ptr[i];
-  idx.resize(ptr.back());
-  std::vector<int> fill(ptr.begin(), ptr.end() - 1);
-  for (int c = 0; c < cells.size(); ++c)
-    for (int n : cells.nodes(c)) idx[fill[n]++] = c;
-}
-}  // namespace
 
 void Model::bind_boundary() {
   const auto& bcs = case_->boundary;
