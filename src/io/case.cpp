@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "io/suggest.hpp"
+#include "material/hardening.hpp"
 
 namespace hencky {
 
@@ -71,6 +72,16 @@ const std::vector<std::string> mesh_keys = {"file", "order", "scale"};
 const std::vector<std::string> material_keys = {"name", "regions", "E",
                                                 "nu",   "alpha",   "plasticity"};
 const std::vector<std::string> table_keys = {"temperature", "value"};
+const std::vector<std::string> plasticity_keys = {"curve", "perfect", "linear", "ramberg_osgood",
+                                                  "unloading"};
+const std::vector<std::string> curve_choices = {"curve", "perfect", "linear", "ramberg_osgood"};
+const std::vector<std::string> curve_keys = {"kind", "table"};
+const std::vector<std::string> curve_table_keys = {"temperature", "strain", "stress"};
+const std::vector<std::string> perfect_keys = {"yield"};
+const std::vector<std::string> linear_keys = {"yield", "hardening"};
+const std::vector<std::string> ramberg_osgood_keys = {"E", "yield", "alpha", "n"};
+const std::vector<std::string> curve_kinds = {"uniaxial", "plastic", "intensity"};
+const std::vector<std::string> unloadings = {"elastic", "curve"};
 const std::vector<std::string> temperature_keys = {"reference", "field"};
 const std::vector<std::string> field_file_keys = {"file"};
 const std::vector<std::string> boundary_keys = {"region", "displacement", "pressure", "traction",
@@ -94,7 +105,13 @@ struct Section {
 };
 const Section sections[] = {
     {"the top level", &top_keys},      {"mesh", &mesh_keys},
-    {"materials[i]", &material_keys},  {"temperature", &temperature_keys},
+    {"materials[i]", &material_keys},  {"materials[i].plasticity", &plasticity_keys},
+    {"materials[i].plasticity.curve", &curve_keys},
+    {"materials[i].plasticity.curve.table[j]", &curve_table_keys},
+    {"materials[i].plasticity.perfect", &perfect_keys},
+    {"materials[i].plasticity.linear", &linear_keys},
+    {"materials[i].plasticity.ramberg_osgood", &ramberg_osgood_keys},
+    {"temperature", &temperature_keys},
     {"boundary[i]", &boundary_keys},   {"boundary[i].displacement", &xyz_keys},
     {"solver", &solver_keys},          {"output", &output_keys},
     {"output.probes[i]", &probe_keys},
@@ -399,7 +416,7 @@ MeshSpec read_mesh(const Reader& r, const Val& v) {
   return mesh;
 }
 
-enum class Property { E, nu, alpha };
+enum class Property { E, nu, alpha, yield, hardening };
 
 void check_property(const Reader& r, const Val& v, Property p, const std::string& what, double x) {
   switch (p) {
@@ -413,7 +430,11 @@ void check_property(const Reader& r, const Val& v, Property p, const std::string
                       "displacement formulation cannot solve), found " +
                       num(x));
       break;
+    case Property::yield:
+      if (!(x > 0)) r.fail(v, what + " must be > 0, found " + num(x));
+      break;
     case Property::alpha:
+    case Property::hardening:  // may be negative (softening); > -3G is checked with E and nu
       break;
   }
 }
@@ -451,6 +472,125 @@ PropertyTable read_property(const Reader& r, const Val& v, const std::string& na
   return t;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Plasticity: the hardening curve as given; converted and checked with E and nu by Hardening.
+
+/// `several`: there is more than one table; `converted`: E or nu depends on temperature and the
+/// table is converted with them (not the plastic form). Either way the temperature is required.
+CurveSpec::Table read_curve_table(const Reader& r, const Val& item, bool several, bool converted,
+                                  const CurveSpec::Table* previous) {
+  Map m(r, item, curve_table_keys, "a table {temperature: T, strain: [...], stress: [...]}");
+  CurveSpec::Table t;
+  t.where = r.at(item);
+  if (auto x = m.get("temperature")) {
+    t.temperature = r.number(*x);
+    if (previous && !(t.temperature > previous->temperature))
+      r.fail(*x, "the tables' temperatures must be strictly increasing, found " +
+                     num(t.temperature) + " after " + num(previous->temperature));
+  } else if (several) {
+    m.require(r, "temperature",
+              "the temperature of this table; it may be left out only when there is one table");
+  } else if (converted) {
+    m.require(r, "temperature",
+              "the temperature of this table: E or nu depends on temperature, and the table is "
+              "converted to plastic strains with their values there");
+  }
+  const Val strain = m.require(r, "strain", "the strains of the curve's points, e.g. [0.00114, 0.01]");
+  const Val stress = m.require(r, "stress", "the stresses of the curve's points in Pa, e.g. [240e6, 260e6]");
+  const auto es = r.list(strain, "a list of strains [e1, e2, ...]");
+  const auto ss = r.list(stress, "a list of stresses [s1, s2, ...]");
+  if (es.empty()) r.fail(strain, "expected at least one point, found an empty list");
+  for (std::size_t i = 0; i < es.size(); ++i) {
+    t.strain.push_back(r.number(es[i]));
+    t.point_where.push_back(r.at(es[i]));
+    if (i > 0 && !(t.strain[i] > t.strain[i - 1]))
+      r.fail(es[i], "strains must be strictly increasing, found " + num(t.strain[i]) + " after " +
+                        num(t.strain[i - 1]));
+  }
+  if (ss.size() != es.size())
+    r.fail(stress, "expected " + std::to_string(es.size()) + " stresses (one per strain), found " +
+                       std::to_string(ss.size()));
+  for (const auto& sv : ss) t.stress.push_back(r.number(sv));
+  return t;
+}
+
+PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec& mat) {
+  Map m(r, v, plasticity_keys,
+        "a map like {curve: {kind: uniaxial, table: [...]}} or {perfect: {yield: 240e6}}");
+  PlasticitySpec p;
+  p.where = r.at(v);
+  std::vector<std::string> given;
+  for (const auto& k : curve_choices)
+    if (m.has(k)) given.push_back(k);
+  if (given.empty())
+    r.fail(v, "plasticity needs a hardening curve: one of 'curve', 'perfect', 'linear', "
+              "'ramberg_osgood' (e.g. perfect: {yield: 240e6})");
+  if (given.size() > 1)
+    throw InputError(r.at(m.key_mark(given[1]), m.get(given[1])->path),
+                     "give one hardening curve, found both '" + given[0] + "' and '" + given[1] +
+                         "'");
+  const Val c = *m.get(given[0]);
+  CurveSpec& curve = p.curve;
+  curve.where = r.at(c);
+  const auto yield = [&](const Map& cm) {
+    return read_property(
+        r, cm.require(r, "yield", "the initial yield stress in Pa, e.g. yield: 240e6"), "yield",
+        Property::yield);
+  };
+  if (given[0] == "curve") {
+    Map cm(r, c, curve_keys, "a map {kind: uniaxial, table: [...]}");
+    curve.kind = CurveSpec::Kind::table;
+    const std::string kind = r.choice(
+        cm.require(r, "kind",
+                   "how the table is read: uniaxial (stress vs total strain of a tension test), "
+                   "plastic (stress vs plastic strain) or intensity (stress vs strain intensity)"),
+        curve_kinds, "curve kind");
+    curve.form = kind == "uniaxial" ? CurveSpec::Form::uniaxial
+                 : kind == "plastic" ? CurveSpec::Form::plastic
+                                     : CurveSpec::Form::intensity;
+    const Val tv = cm.require(
+        r, "table", "one entry per temperature: [{temperature: 20, strain: [...], stress: [...]}]");
+    if (tv.node.IsMap())
+      r.fail(tv, "expected a list of tables (start each entry with '- ' or write [{...}]), found a "
+                 "map");
+    const auto items = r.list(tv, "a list of tables [{temperature: T, strain: [...], stress: [...]}]");
+    if (items.empty()) r.fail(tv, "expected at least one table, found an empty list");
+    const bool converted = curve.form != CurveSpec::Form::plastic &&
+                           !(mat.E.is_constant() && mat.nu.is_constant());
+    for (const auto& item : items)
+      curve.tables.push_back(read_curve_table(r, item, items.size() > 1, converted,
+                                              curve.tables.empty() ? nullptr : &curve.tables.back()));
+  } else if (given[0] == "perfect") {
+    Map cm(r, c, perfect_keys, "a map {yield: 240e6}");
+    curve.kind = CurveSpec::Kind::perfect;
+    curve.yield = yield(cm);
+  } else if (given[0] == "linear") {
+    Map cm(r, c, linear_keys, "a map {yield: 240e6, hardening: 2e9}");
+    curve.kind = CurveSpec::Kind::linear;
+    curve.yield = yield(cm);
+    curve.hardening = read_property(
+        r,
+        cm.require(r, "hardening",
+                   "the plastic modulus dσ/dε^p in Pa, e.g. hardening: 2e9 (0: perfect plasticity)"),
+        "hardening", Property::hardening);
+  } else {
+    Map cm(r, c, ramberg_osgood_keys, "a map {E: 2e11, yield: 240e6, alpha: 0.002, n: 10}");
+    curve.kind = CurveSpec::Kind::ramberg_osgood;
+    curve.ro_E = r.positive(cm.require(
+        r, "E", "the Young's modulus of the Ramberg-Osgood fit in Pa (usually the material's E)"));
+    curve.yield = yield(cm);
+    curve.ro_alpha = r.positive(cm.require(r, "alpha", "the Ramberg-Osgood factor, e.g. alpha: 0.002"));
+    const Val n = cm.require(r, "n", "the Ramberg-Osgood exponent (> 1), e.g. n: 10");
+    curve.ro_n = r.number(n);
+    if (!(curve.ro_n > 1)) r.fail(n, "expected an exponent n > 1, found " + num(curve.ro_n));
+  }
+  if (auto u = m.get("unloading"))
+    p.unloading = r.choice(*u, unloadings, "unloading") == "elastic"
+                      ? PlasticitySpec::Unloading::elastic
+                      : PlasticitySpec::Unloading::curve;
+  return p;
+}
+
 std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has_temperature) {
   if (v.node.IsMap())
     r.fail(v, "expected a list of materials (start each entry with '- '), found a map");
@@ -464,10 +604,6 @@ std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has
     Map m(r, item, material_keys, "a material {name: ..., E: ..., nu: ..., alpha: ...}");
     MaterialSpec mat;
     mat.where = r.at(item);
-    if (m.has("plasticity"))
-      r.fail(*m.get("plasticity"),
-             "plasticity is not available in hencky 0.1, which solves thermo-elastic problems "
-             "only; remove 'plasticity' to treat this material as elastic");
     if (auto n = m.get("name")) {
       mat.name = r.string(*n);
       if (auto prev = names.find(mat.name); prev != names.end())
@@ -508,6 +644,12 @@ std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has
     } else {
       mat.alpha.value = {0.0};
       mat.alpha.where = mat.where;
+    }
+    if (auto pl = m.get("plasticity")) {
+      mat.plasticity = read_plasticity(r, *pl, mat);
+      // Converting the curve needs E and nu: done here only to report a bad curve now (for
+      // `hencky check`); the model builds its own.
+      (void)Hardening(*mat.plasticity, mat.E, mat.nu);
     }
     out.push_back(std::move(mat));
   }
@@ -890,12 +1032,23 @@ Case read_case(const fs::path& case_file) {
     if (auto x = top.get("temperature")) {
       c.temperature = read_temperature(r, *x);
     } else {  // a table over temperature needs a temperature
-      for (const auto& m : c.materials)
-        for (const PropertyTable* p : {&m.E, &m.nu, &m.alpha})
+      for (const auto& m : c.materials) {
+        std::vector<const PropertyTable*> props = {&m.E, &m.nu, &m.alpha};
+        if (m.plasticity) {
+          const CurveSpec& curve = m.plasticity->curve;
+          if (curve.kind == CurveSpec::Kind::table && curve.tables.size() > 1)
+            throw InputError(curve.tables[1].where,
+                             "curve tables at several temperatures need a 'temperature' "
+                             "section (with its 'reference' and 'field')");
+          if (curve.kind != CurveSpec::Kind::table) props.push_back(&curve.yield);
+          if (curve.kind == CurveSpec::Kind::linear) props.push_back(&curve.hardening);
+        }
+        for (const PropertyTable* p : props)
           if (!p->is_constant())
             throw InputError(p->where,
                              "a table over temperature needs a 'temperature' section "
                              "(with its 'reference' and 'field')");
+      }
     }
     if (auto x = top.get("boundary")) c.boundary = read_boundary(r, *x);
     if (auto x = top.get("body_force")) c.body_force = r.expression3(*x);

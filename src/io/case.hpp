@@ -29,6 +29,38 @@ struct PropertyTable {
   bool is_constant() const { return value.size() == 1; }
 };
 
+/// A hardening curve as given in the case file (materials[i].plasticity). Conversion to the
+/// formulation's form and every check that needs E and ν happen in material/hardening.hpp.
+struct CurveSpec {
+  enum class Kind { table, perfect, linear, ramberg_osgood };
+  /// How a table's (strain, stress) pairs are read: uniaxial = stress vs total uniaxial strain
+  /// (first point on the elastic line σ = E·ε); plastic = stress vs equivalent plastic strain
+  /// (first strain 0); intensity = σ̃ vs ε̃^{e+p} of (1.18) (first point on σ̃ = 3G·ε̃).
+  enum class Form { uniaxial, plastic, intensity };
+  struct Table {
+    double temperature = 0;
+    std::vector<double> strain, stress;  ///< same length >= 1; strain strictly increasing
+    SourceLocation where;                ///< the entry curve.table[j]
+    std::vector<SourceLocation> point_where;  ///< location of each strain value
+  };
+  Kind kind = Kind::table;
+  Form form = Form::uniaxial;
+  std::vector<Table> tables;  ///< kind == table: one per temperature, temperatures increasing
+  PropertyTable yield;        ///< perfect, linear, ramberg_osgood: initial yield stress (> 0)
+  PropertyTable hardening;    ///< linear: plastic modulus dσ/dε^p (may be negative: softening)
+  double ro_E = 0, ro_alpha = 0, ro_n = 0;  ///< ramberg_osgood: ε = σ/E + α(σ_y/E)(σ/σ_y)^n
+  SourceLocation where;       ///< the curve (or perfect / linear / ramberg_osgood) entry
+};
+
+struct PlasticitySpec {
+  CurveSpec curve;
+  /// elastic: unloading and reloading below the largest intensity reached follow a line of
+  /// slope 3G (the report's elastic unloading); curve: unloading follows the curve back
+  /// (deformation theory, nonlinear elastic).
+  enum class Unloading { elastic, curve } unloading = Unloading::elastic;
+  SourceLocation where;  ///< the plasticity entry
+};
+
 struct MaterialSpec {
   std::string name;                          ///< unique; default "material<i>"
   std::vector<std::string> regions;          ///< Gmsh physical volume names; empty: the whole
@@ -36,6 +68,7 @@ struct MaterialSpec {
   std::vector<SourceLocation> region_where;  ///< location of each region name
   PropertyTable E, nu, alpha;                ///< alpha is 0 when not given (only allowed
                                              ///< without a temperature section)
+  std::optional<PlasticitySpec> plasticity;  ///< none: elastic
   SourceLocation where;                      ///< the entry materials[i]
 };
 

@@ -481,16 +481,6 @@ materials:
 }
 
 TEST_F(CaseTest, LaterVersionFeatures) {
-  expect_error(R"(mesh: {file: part.msh}
-materials:
-  - name: steel
-    E: 2.1e11
-    nu: 0.3
-    plasticity:
-      curve: {kind: uniaxial}
-)",
-               {"case.yaml:7:7", "'materials[0].plasticity'",
-                "plasticity is not available in hencky 0.1", "thermo-elastic"});
   const std::string m = error(base + "contact:\n  - name: floor\n    nodes: bottom\n");
   EXPECT_TRUE(has(m, "case.yaml:11:3")) << m;
   EXPECT_TRUE(has(m, "'contact'")) << m;
@@ -499,6 +489,222 @@ materials:
   expect_error(base + "solver: {linear: petsc}\n",
                {"case.yaml:10:18", "'solver.linear'",
                 "the petsc back end is not available in this version (use direct or iterative)"});
+}
+
+// A material with a plasticity entry whose content starts on line 7, column 7.
+const std::string phead = R"(mesh: {file: part.msh}
+materials:
+  - name: steel
+    E: 2.1e11
+    nu: 0.3
+    plasticity:
+)";
+// The same with alpha, for cases with a temperature section (content from line 8, column 7).
+const std::string pthead = R"(mesh: {file: part.msh}
+materials:
+  - name: steel
+    E: 2.1e11
+    nu: 0.3
+    alpha: 1.2e-5
+    plasticity:
+)";
+const std::string temperature_section = "temperature: {reference: 20, field: 100}\n";
+
+TEST_F(CaseTest, PlasticityCurveTables) {
+  Case c = read(phead + R"(      curve:
+        kind: uniaxial
+        table:
+          - temperature: 20
+            strain: [0.00114286, 0.01, 0.05]
+            stress: [240e6, 260e6, 300e6]
+)");
+  ASSERT_TRUE(c.materials[0].plasticity);
+  const PlasticitySpec& p = *c.materials[0].plasticity;
+  EXPECT_EQ(p.unloading, PlasticitySpec::Unloading::elastic);  // the default
+  EXPECT_EQ(p.where.line, 7);
+  EXPECT_EQ(p.curve.kind, CurveSpec::Kind::table);
+  EXPECT_EQ(p.curve.form, CurveSpec::Form::uniaxial);
+  EXPECT_EQ(p.curve.where.key, "materials[0].plasticity.curve");
+  ASSERT_EQ(p.curve.tables.size(), 1u);
+  const CurveSpec::Table& t = p.curve.tables[0];
+  EXPECT_DOUBLE_EQ(t.temperature, 20);
+  EXPECT_EQ(t.strain, (std::vector<double>{0.00114286, 0.01, 0.05}));
+  EXPECT_EQ(t.stress, (std::vector<double>{240e6, 260e6, 300e6}));
+  EXPECT_EQ(t.where.key, "materials[0].plasticity.curve.table[0]");
+  ASSERT_EQ(t.point_where.size(), 3u);
+  EXPECT_EQ(t.point_where[1].line, 11);
+  EXPECT_EQ(t.point_where[1].column, 34);
+  EXPECT_EQ(t.point_where[1].key, "materials[0].plasticity.curve.table[0].strain[1]");
+
+  // one table: the temperature may be left out; several: each has one, increasing
+  c = read(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [2e8, 3e8]}]}\n"
+                   "      unloading: curve\n");
+  EXPECT_EQ(c.materials[0].plasticity->curve.form, CurveSpec::Form::plastic);
+  EXPECT_EQ(c.materials[0].plasticity->unloading, PlasticitySpec::Unloading::curve);
+  EXPECT_EQ(c.materials[0].plasticity->curve.tables[0].strain.size(), 2u);
+  c = read(pthead + R"(      curve:
+        kind: intensity
+        table:
+          - {temperature: 20, strain: [0.001], stress: [242307692.3]}
+          - {temperature: 500, strain: [0.000619048, 0.02], stress: [1.5e8, 1.8e8]}
+)" + temperature_section);
+  const CurveSpec& curve = c.materials[0].plasticity->curve;
+  EXPECT_EQ(curve.form, CurveSpec::Form::intensity);
+  ASSERT_EQ(curve.tables.size(), 2u);
+  EXPECT_DOUBLE_EQ(curve.tables[1].temperature, 500);
+  EXPECT_EQ(curve.tables[1].stress, (std::vector<double>{1.5e8, 1.8e8}));
+}
+
+TEST_F(CaseTest, PlasticityAnalyticCurves) {
+  Case c = read(phead + "      perfect: {yield: 240e6}\n");
+  const CurveSpec* curve = &c.materials[0].plasticity->curve;
+  EXPECT_EQ(curve->kind, CurveSpec::Kind::perfect);
+  EXPECT_DOUBLE_EQ(curve->yield(20), 240e6);
+  EXPECT_EQ(curve->yield.where.key, "materials[0].plasticity.perfect.yield");
+
+  c = read(pthead +
+           "      linear: {yield: {temperature: [20, 500], value: [240e6, 150e6]}, "
+           "hardening: -1e9}\n" +
+           temperature_section);
+  curve = &c.materials[0].plasticity->curve;
+  EXPECT_EQ(curve->kind, CurveSpec::Kind::linear);
+  EXPECT_DOUBLE_EQ(curve->yield(260), 195e6);
+  EXPECT_DOUBLE_EQ(curve->hardening(20), -1e9);  // softening is allowed (> -3G)
+
+  c = read(phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0.002, n: 10}\n");
+  curve = &c.materials[0].plasticity->curve;
+  EXPECT_EQ(curve->kind, CurveSpec::Kind::ramberg_osgood);
+  EXPECT_DOUBLE_EQ(curve->ro_E, 2e11);
+  EXPECT_DOUBLE_EQ(curve->yield(20), 240e6);
+  EXPECT_DOUBLE_EQ(curve->ro_alpha, 0.002);
+  EXPECT_DOUBLE_EQ(curve->ro_n, 10);
+}
+
+TEST_F(CaseTest, PlasticityKeyErrors) {
+  expect_error(phead + "      {}\n",
+               {"case.yaml:7:7", "'materials[0].plasticity'", "needs a hardening curve",
+                "'curve', 'perfect', 'linear', 'ramberg_osgood'"});
+  expect_error(phead + "      perfect: {yield: 1e8}\n      linear: {yield: 1e8, hardening: 1e9}\n",
+               {"case.yaml:8:7", "'materials[0].plasticity.linear'",
+                "give one hardening curve, found both 'perfect' and 'linear'"});
+  expect_error(phead + "      kind: uniaxial\n",
+               {"case.yaml:7:7", "'materials[0].plasticity.kind'", "unknown key 'kind'",
+                "'kind' is a key of 'materials[i].plasticity.curve'"});
+  expect_error(phead + "      perfect: {yeild: 1e8}\n",
+               {"case.yaml:7:17", "'materials[0].plasticity.perfect.yeild'",
+                "did you mean 'yield'?"});
+  expect_error(phead + "      perfect: {}\n",
+               {"'materials[0].plasticity.perfect.yield'", "missing key 'yield'"});
+  expect_error(phead + "      curve: {kind: uniaxal, table: []}\n",
+               {"case.yaml:7:21", "'materials[0].plasticity.curve.kind'",
+                "unknown curve kind 'uniaxal'; did you mean 'uniaxial'?"});
+  expect_error(phead + "      curve: {table: [{strain: [0], stress: [1e8]}]}\n",
+               {"'materials[0].plasticity.curve.kind'", "missing key 'kind'", "uniaxial",
+                "plastic", "intensity"});
+  expect_error(phead + "      curve: {kind: plastic, table: {strain: [0], stress: [1e8]}}\n",
+               {"'materials[0].plasticity.curve.table'", "expected a list of tables",
+                "found a map"});
+  expect_error(phead + "      curve: {kind: plastic, table: []}\n",
+               {"'materials[0].plasticity.curve.table'", "at least one table"});
+  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [], stress: []}]}\n",
+               {"'materials[0].plasticity.curve.table[0].strain'", "at least one point"});
+  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [1e8]}]}\n",
+               {"'materials[0].plasticity.curve.table[0].stress'",
+                "expected 2 stresses (one per strain), found 1"});
+  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1, 0.1], "
+                       "stress: [1e8, 2e8, 3e8]}]}\n",
+               {"case.yaml:7:56", "'materials[0].plasticity.curve.table[0].strain[2]'",
+                "strains must be strictly increasing, found 0.1 after 0.1"});
+  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0], stres: [1e8]}]}\n",
+               {"'materials[0].plasticity.curve.table[0].stres'", "did you mean 'stress'?"});
+  expect_error(phead + "      perfect: {yield: 1e8}\n      unloading: elastik\n",
+               {"case.yaml:8:18", "'materials[0].plasticity.unloading'",
+                "did you mean 'elastic'?"});
+  expect_error(phead + "      perfect: {yield: 0}\n",
+               {"case.yaml:7:24", "'materials[0].plasticity.perfect.yield'",
+                "yield must be > 0, found 0"});
+  expect_error(phead + "      linear: {yield: 1e8, hardening: 1e9, n: 3}\n",
+               {"'materials[0].plasticity.linear.n'", "unknown key 'n'",
+                "'n' is a key of 'materials[i].plasticity.ramberg_osgood'"});
+  expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0.002, n: 1}\n",
+               {"'materials[0].plasticity.ramberg_osgood.n'", "expected an exponent n > 1",
+                "found 1"});
+  expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0, n: 5}\n",
+               {"'materials[0].plasticity.ramberg_osgood.alpha'", "> 0", "found 0"});
+  expect_error(phead + "      ramberg_osgood: {yield: 240e6, alpha: 0.002, n: 5}\n",
+               {"'materials[0].plasticity.ramberg_osgood.E'", "missing key 'E'"});
+}
+
+TEST_F(CaseTest, PlasticityTemperatureRules) {
+  const std::string two = R"(      curve:
+        kind: plastic
+        table:
+          - {temperature: 500, strain: [0, 0.1], stress: [1.5e8, 2e8]}
+          - {temperature: 20, strain: [0, 0.1], stress: [2.4e8, 3e8]}
+)";
+  expect_error(pthead + two + temperature_section,
+               {"case.yaml:12:27", "'materials[0].plasticity.curve.table[1].temperature'",
+                "strictly increasing, found 20 after 500"});
+  expect_error(pthead + R"(      curve:
+        kind: plastic
+        table:
+          - {temperature: 20, strain: [0, 0.1], stress: [2.4e8, 3e8]}
+          - {strain: [0, 0.1], stress: [1.5e8, 2e8]}
+)" + temperature_section,
+               {"case.yaml:12:13", "'materials[0].plasticity.curve.table[1].temperature'",
+                "missing key 'temperature'", "only when there is one table"});
+  // one table converted with an E that depends on temperature: at which temperature?
+  expect_error(R"(mesh: {file: part.msh}
+materials:
+  - name: steel
+    E: {temperature: [20, 500], value: [2.1e11, 1.7e11]}
+    nu: 0.3
+    alpha: 1.2e-5
+    plasticity:
+      curve: {kind: uniaxial, table: [{strain: [0.00114286, 0.01], stress: [240e6, 260e6]}]}
+)" + temperature_section,
+               {"case.yaml:8:39", "'materials[0].plasticity.curve.table[0].temperature'",
+                "missing key 'temperature'", "E or nu depends on temperature"});
+  // several tables, or a yield or hardening table, need a temperature section
+  expect_error(phead + R"(      curve:
+        kind: plastic
+        table:
+          - {temperature: 20, strain: [0, 0.1], stress: [2.4e8, 3e8]}
+          - {temperature: 500, strain: [0, 0.1], stress: [1.5e8, 2e8]}
+)",
+               {"case.yaml:11:13", "'materials[0].plasticity.curve.table[1]'",
+                "need a 'temperature' section"});
+  expect_error(phead + "      perfect: {yield: {temperature: [20, 500], value: [2.4e8, 1.5e8]}}\n",
+               {"case.yaml:7:24", "'materials[0].plasticity.perfect.yield'",
+                "needs a 'temperature' section"});
+  expect_error(
+      phead + "      linear: {yield: 2e8, hardening: {temperature: [20, 500], value: [1e9, 0]}}\n",
+      {"'materials[0].plasticity.linear.hardening'", "needs a 'temperature' section"});
+}
+
+// Conversion errors come from Hardening (needs E and nu) and carry the point's location.
+TEST_F(CaseTest, PlasticityCurveIsCheckedWithEAndNu) {
+  expect_error(phead + R"(      curve:
+        kind: uniaxial
+        table:
+          - temperature: 20
+            strain: [0.00114286, 0.002, 0.003]
+            stress: [240e6, 260e6, 500e6]
+)",
+               {"case.yaml:11:41", "'materials[0].plasticity.curve.table[0]'",
+                "point 2 (strain 0.003, stress 5e+08)", "does not increase"});
+  expect_error(phead + "      curve: {kind: uniaxial, table: [{strain: [0.002, 0.01], "
+                       "stress: [240e6, 260e6]}]}\n",
+               {"case.yaml:7:49", "'materials[0].plasticity.curve.table[0]'", "point 0",
+                "the first point must be the yield point on the elastic line",
+                "i.e. strain 0.00114286"});
+  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0.001, 0.01], "
+                       "stress: [240e6, 260e6]}]}\n",
+               {"'materials[0].plasticity.curve.table[0]'", "point 0",
+                "its strain must be 0"});
+  expect_error(phead + "      linear: {yield: 240e6, hardening: -3e11}\n",
+               {"case.yaml:7:41", "'materials[0].plasticity.linear.hardening'",
+                "must be > -3G = -2.42308e+11"});
 }
 
 TEST_F(CaseTest, Boundary) {

@@ -81,10 +81,17 @@ ex_variant scheme 's/^solver: \{steps: 2\}/solver: {steps: 2, scheme: newtn}/'
 ex_bad "bad input: unknown scheme name, with suggestion" \
   "scheme\.yaml:13:[0-9]+: 'solver\.scheme': unknown scheme 'newtn'; did you mean 'newton'\?" "$bd/scheme.yaml"
 
-# --- features of later versions
+# --- hardening curves: a valid one passes the check; a bad one is named by table and point
 ex_variant plasticity 's/^    alpha: 1\.2e-5/    alpha: 1.2e-5\n    plasticity:\n      perfect: {yield: 240e6}/'
-ex_bad "bad input: plasticity is not available in this version" \
-  "plasticity\.yaml:9:[0-9]+: 'materials\[0\]\.plasticity': plasticity is not available" "$bd/plasticity.yaml"
+expect "plasticity: a valid curve passes the check" 0 "plasticity\.yaml: ok" -- check "$bd/plasticity.yaml"
+ex_variant bad-curve 's/^    alpha: 1\.2e-5/    alpha: 1.2e-5\n    plasticity:\n      curve:\n        kind: uniaxial\n        table:\n          - {temperature: 20, strain: [0.00114286, 0.002, 0.003], stress: [240e6, 260e6, 500e6]}/'
+ex_bad "bad input: a uniaxial curve whose plastic strain does not increase" \
+  "bad-curve\.yaml:12:59: 'materials\[0\]\.plasticity\.curve\.table\[0\]': point 2 \(strain 0\.003, stress 5e\+08\): its plastic strain .* does not increase" \
+  "$bd/bad-curve.yaml"
+expect "bad input: hencky check reports the bad curve too" 1 \
+  "bad-curve\.yaml:12:59: 'materials\[0\]\.plasticity\.curve\.table\[0\]': point 2" -- check "$bd/bad-curve.yaml"
+
+# --- features of later versions
 cp "$bd/good.yaml" "$bd/contact.yaml"
 printf 'contact:\n  - name: floor\n    nodes: clamp\n    surface:\n      plane: {point: [0, 0, 0], normal: [0, 0, 1]}\n' >>"$bd/contact.yaml"
 ex_bad "bad input: contact is not available in this version" \
