@@ -60,6 +60,8 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   if (!result.failure.empty()) summary["failure"] = result.failure;
   summary["steps"] = result.steps;
   summary["iterations"] = result.iterations;
+  summary["factorizations"] = result.factorizations;
+  summary["scheme"] = c.solver.scheme;
   summary["dofs"] = model.dofs().n_free;
   summary["nodes"] = model.mesh().n_nodes();
   summary["elements"] = model.mesh().cells.size();

@@ -17,17 +17,18 @@ constexpr std::array<const char*, 6> paraview_names{"xx", "yy", "zz", "xy", "yz"
 constexpr std::array<const char*, 3> axes{"x", "y", "z"};
 }  // namespace
 
-std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
+template <class T>
+std::vector<T> recover_nodal(const Model& model, const std::vector<T>& at_points, T zero) {
   const auto& mesh = model.mesh();
-  std::vector<Voigt> s(mesh.n_nodes(), Voigt::Zero());
+  std::vector<T> s(mesh.n_nodes(), zero);
   std::vector<int> count(mesh.n_nodes(), 0);
   for (int e = 0; e < mesh.cells.size(); ++e) {
     const auto nodes = mesh.cells.nodes(e);
     const auto& tab = reference_table(mesh.cells.type[e]);
     const int p0 = model.point_offset(e);
     for (std::size_t a = 0; a < nodes.size(); ++a) {
-      Voigt v = Voigt::Zero();
-      for (int q = 0; q < tab.n_points; ++q) v += tab.extrapolation(a, q) * state.stress[p0 + q];
+      T v = zero;
+      for (int q = 0; q < tab.n_points; ++q) v += tab.extrapolation(a, q) * at_points[p0 + q];
       s[nodes[a]] += v;
       ++count[nodes[a]];
     }
@@ -37,18 +38,33 @@ std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) 
   return s;
 }
 
+std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
+  return recover_nodal<Voigt>(model, state.stress, Voigt::Zero());
+}
+
+NodalPlastic recover_nodal_plastic(const Model& model, const State& state) {
+  NodalPlastic r;
+  if (!model.has_plasticity()) return r;
+  r.strain = recover_nodal<Voigt>(model, state.plastic_strain, Voigt::Zero());
+  r.equivalent = recover_nodal<double>(model, state.eps_p_eq, 0.0);
+  // Extrapolation from the points may undershoot next to a plastic zone's edge.
+  for (double& v : r.equivalent) v = std::max(v, 0.0);
+  return r;
+}
+
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
-                         const std::vector<Voigt>& nodal_stress) {
+                         const std::vector<Voigt>& nodal_stress, const NodalPlastic& plastic) {
   const auto& mesh = model.mesh();
   const auto nodes = mesh.cells.nodes(probe.cell);
   double N[max_cell_nodes];
   shape_values(mesh.cells.type[probe.cell], probe.xi, N);
-  ProbeValues v{Vec3::Zero(), Voigt::Zero(), 0, 0};
+  ProbeValues v{Vec3::Zero(), Voigt::Zero(), 0, 0, 0};
   for (std::size_t a = 0; a < nodes.size(); ++a) {
     const int n = nodes[a];
     v.displacement += N[a] * Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]);
     v.stress += N[a] * nodal_stress[n];
     v.temperature += N[a] * state.nodal_temperature[n];
+    if (!plastic.equivalent.empty()) v.equivalent_plastic_strain += N[a] * plastic.equivalent[n];
   }
   v.von_mises = von_mises(v.stress);
   return v;
@@ -104,6 +120,8 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
   }
   for (const auto& r : model_.reaction_regions())
     for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+  // Added after the contract's columns (scripts that read by name or position keep working).
+  history_ << ",delta_sigma,delta_epsilon,factorizations,plastic_points";
   history_ << '\n';
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
 }
@@ -121,6 +139,7 @@ void ResultWriter::abandon() {
 
 void ResultWriter::step_done(const StepReport& report, const State& state) {
   const auto nodal_stress = recover_nodal_stress(model_, state);
+  const auto plastic = recover_nodal_plastic(model_, state);
   const auto reactions = region_reactions(model_, state);
 
   // history.csv and the values the summary reports
@@ -128,7 +147,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
                           report.residual);
   nlohmann::json probes = nlohmann::json::object(), reaction_json = nlohmann::json::object();
   for (const auto& p : model_.probes()) {
-    const ProbeValues v = probe_values(model_, p, state, nodal_stress);
+    const ProbeValues v = probe_values(model_, p, state, nodal_stress, plastic);
     auto& j = probes[p.spec->name];
     for (int d = 0; d < 3; ++d) {
       history_ << fmt::format(",{:.17g}", v.displacement[d]);
@@ -138,9 +157,10 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
       history_ << fmt::format(",{:.17g}", v.stress[paraview_order[c]]);
       j["stress"][paraview_names[c]] = v.stress[paraview_order[c]];
     }
-    history_ << fmt::format(",{:.17g},0,{:.17g}", v.von_mises, v.temperature);
+    history_ << fmt::format(",{:.17g},{:.17g},{:.17g}", v.von_mises, v.equivalent_plastic_strain,
+                            v.temperature);
     j["von_mises"] = v.von_mises;
-    j["equivalent_plastic_strain"] = 0.0;
+    j["equivalent_plastic_strain"] = v.equivalent_plastic_strain;
     j["temperature"] = v.temperature;
   }
   for (std::size_t k = 0; k < reactions.size(); ++k)
@@ -148,6 +168,8 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
       history_ << fmt::format(",{:.17g}", reactions[k][d]);
       reaction_json[model_.reaction_regions()[k].name][axes[d]] = reactions[k][d];
     }
+  history_ << fmt::format(",{:.6e},{:.6e},{},{}", report.delta_sigma, report.delta_eps,
+                          report.factorizations, report.plastic_points);
   history_ << '\n';
   history_.flush();
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", nlohmann::json::object()}};
@@ -164,6 +186,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
     vm[i] = von_mises(nodal_stress[i]);
   }
   std::vector<int> material(n_cells), region(n_cells);
+  std::vector<double> cell_eqp(n_cells, 0.0), cell_zone(n_cells, 0.0);
   for (int e = 0; e < n_cells; ++e) {
     const int p0 = model_.point_offset(e), p1 = model_.point_offset(e + 1);
     Voigt avg = Voigt::Zero();
@@ -171,6 +194,8 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
     for (int p = p0; p < p1; ++p) {
       avg += state.stress[p];
       vm_avg += von_mises(state.stress[p]);
+      cell_eqp[e] += state.eps_p_eq[p] / (p1 - p0);
+      cell_zone[e] += static_cast<double>(state.flowing[p]) / (p1 - p0);
     }
     avg /= (p1 - p0);
     for (int c = 0; c < 6; ++c) cell_stress[6 * e + c] = avg[paraview_order[c]];
@@ -178,20 +203,32 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
     material[e] = model_.material_index(e);
     region[e] = mesh.cell_region[e];
   }
-  // Fields of the contract that a thermo-elastic model without contact holds at zero.
+  // Fields of the contract that a model without plasticity or contact holds at zero.
   zeros_.assign(6 * static_cast<std::size_t>(n), 0.0);
   const std::span<const double> zero6(zeros_), zero1(zeros_.data(), n);
+  // Plastic strain as a tensor (ε_xy = γ_xy / 2), in ParaView's order like the stress.
+  std::vector<double> eps_p, eqp;
+  if (!plastic.strain.empty()) {
+    eps_p.resize(6 * static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < 6; ++c)
+        eps_p[6 * i + c] = plastic.strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
+    eqp = plastic.equivalent;
+  }
   const VtuField point_fields[] = {
       {"displacement", 3, state.u},
       {"stress", 6, stress},
       {"von_mises", 1, vm},
       {"temperature", 1, state.nodal_temperature},
-      {"plastic_strain", 6, zero6},
-      {"equivalent_plastic_strain", 1, zero1},
+      {"plastic_strain", 6, eps_p.empty() ? zero6 : std::span<const double>(eps_p)},
+      {"equivalent_plastic_strain", 1, eqp.empty() ? zero1 : std::span<const double>(eqp)},
       {"contact_pressure", 1, zero1},
       {"contact_state", 1, zero1},
   };
-  const VtuField cell_fields[] = {{"stress", 6, cell_stress}, {"von_mises", 1, cell_vm}};
+  const VtuField cell_fields[] = {{"stress", 6, cell_stress},
+                                  {"von_mises", 1, cell_vm},
+                                  {"equivalent_plastic_strain", 1, cell_eqp},
+                                  {"plastic_zone", 1, cell_zone}};
   const VtuIntField int_fields[] = {{"material", material}, {"region", region}};
   const std::string name = fmt::format("step_{:04d}.vtu", report.step);
   write_vtu(work_dir_ / name, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);

@@ -17,14 +17,23 @@ namespace hencky {
 /// values to its nodes (reference_table().extrapolation), nodes average over their cells.
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state);
 
+/// Plastic strain (engineering shears) and equivalent plastic strain recovered to the nodes
+/// like the stress; empty without plasticity.
+struct NodalPlastic {
+  std::vector<Voigt> strain;
+  std::vector<double> equivalent;
+};
+NodalPlastic recover_nodal_plastic(const Model& model, const State& state);
+
 struct ProbeValues {
   Vec3 displacement;
   Voigt stress;
   double von_mises;
   double temperature;
+  double equivalent_plastic_strain;
 };
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
-                         const std::vector<Voigt>& nodal_stress);
+                         const std::vector<Voigt>& nodal_stress, const NodalPlastic& plastic = {});
 
 /// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext).
 std::vector<Vec3> region_reactions(const Model& model, const State& state);

@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <deque>
 
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
+#include "solve/schemes.hpp"
 
 namespace hencky {
 namespace {
@@ -28,6 +30,37 @@ class StepSolver {
   StepSolver(const Model& m, LinearSolver& solver, Log& log, Timings& timings)
       : m_(m), solver_(solver), log_(log), timings_(timings) {
     values_.resize(m.assembler().pattern().nnz());
+    plastic_ = m.has_plasticity();
+    options_.kind = scheme_from_name(m.spec().solver.scheme);
+    options_.strain_form = m.spec().solver.curve_form == "strain";
+    options_.omega = m.spec().solver.relaxation;
+    if (plastic_) {
+      Vec3 lo = m.mesh().x.front(), hi = lo;
+      for (const Vec3& p : m.mesh().x) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      model_size_ = (hi - lo).norm();
+      const int n = m.n_points();
+      point_step_.resize(n);
+      point_iter_.resize(n);
+      tangent_.assign(n, Tangent{});
+      defect_sigma_.assign(n, 0.0);
+      defect_eps_.assign(n, 0.0);
+      point_volume_.assign(n, 0.0);
+      const auto& mesh = m.mesh();
+      double dNdx[3 * max_cell_nodes];
+      Vec3 x[max_cell_nodes];
+      for (int e = 0; e < mesh.cells.size(); ++e) {
+        const auto nodes = mesh.cells.nodes(e);
+        const auto& tab = reference_table(mesh.cells.type[e]);
+        for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+        for (int q = 0; q < tab.n_points; ++q)
+          point_volume_[m.point_offset(e) + q] =
+              physical_gradients(tab, q, std::span<const Vec3>(x, nodes.size()), dNdx) *
+              tab.weights[q];
+      }
+    }
     matrix_changes_with_temperature_ = false;
     if (m.has_temperature())
       for (const auto& mat : m.materials())
@@ -50,7 +83,38 @@ class StepSolver {
         s.constants[p] = m_.material_of(e).at(m_.reference_temperature());
     s.f_ext.assign(n_dofs, 0.0);
     s.f_int.assign(n_dofs, 0.0);
+    s.plastic_strain.assign(n_pts, Voigt::Zero());
+    s.eps_p_eq.assign(n_pts, 0.0);
+    s.eps_ep.assign(n_pts, 0.0);
+    s.eps_ep_max.assign(n_pts, 0.0);
+    s.flowing.assign(n_pts, 0);
     return s;
+  }
+
+  int factorizations() const { return factorizations_; }
+  bool failed_in_linear_solver() const { return failed_in_linear_solver_; }
+  double delta_sigma() const { return delta_sigma_; }
+  double delta_eps() const { return delta_eps_; }
+
+  /// Warnings about the curves after a converged step: temperatures outside their tables,
+  /// plastic strains beyond their last point.
+  void check_curves(const State& s) const {
+    if (!plastic_) return;
+    const auto& mesh = m_.mesh();
+    const int n_mat = static_cast<int>(m_.materials().size());
+    std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY), e_max(n_mat, 0.0);
+    for (int e = 0; e < mesh.cells.size(); ++e) {
+      const int mi = m_.material_index(e);
+      if (!m_.materials()[mi].plastic()) continue;
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+        t_min[mi] = std::min(t_min[mi], s.temperature[p]);
+        t_max[mi] = std::max(t_max[mi], s.temperature[p]);
+        e_max[mi] = std::max(e_max[mi], s.eps_p_eq[p]);
+      }
+    }
+    for (int k = 0; k < n_mat; ++k)
+      if (const auto& mat = m_.materials()[k]; mat.plastic() && t_min[k] <= t_max[k])
+        mat.hardening->warn_outside(mat.spec->name, t_min[k], t_max[k], e_max[k], log_);
   }
 
   /// One step from `c` (committed at c.time) to time t1. Returns true when it converged and
@@ -64,6 +128,7 @@ class StepSolver {
     point_temperatures(trial);
     m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
     m_.external_forces(t1, trial.f_ext);
+    if (plastic_) begin_plastic_step(c, trial);
 
     // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) − F_int(t):
     // with γ = 1 the defect left by the previous step is corrected in full.
@@ -72,7 +137,6 @@ class StepSolver {
     for (int i = 0; i < dofs.n_dofs(); ++i)
       target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] - c.f_int[i]);
 
-    const bool new_matrix = !factorized_ || matrix_changes_with_temperature_;
     std::vector<double>& rhs = rhs_;
     rhs.resize(dofs.n_free);
     delta_.resize(dofs.n_free);
@@ -90,21 +154,52 @@ class StepSolver {
       if (iterations == 0)
         f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(r)});
       residual = f_norm > 0 ? std::sqrt(r) / f_norm : 0.0;
-      log_.detail("  iteration {}: relative residual {:.3e}", iterations, residual);
-      if (iterations >= 1 && residual <= spec.tolerance) {
+      if (plastic_) {
+        log_.detail("  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
+                    "points {}",
+                    iterations, residual, delta_sigma_, delta_eps_, plastic_points_);
+      } else {
+        log_.detail("  iteration {}: relative residual {:.3e}", iterations, residual);
+      }
+      const bool measures_ok =
+          !plastic_ || (delta_sigma_ <= spec.tolerance && delta_eps_ <= spec.tolerance);
+      if (iterations >= 1 && residual <= spec.tolerance && measures_ok) {
         // The reported residual is the true equilibrium defect F − F_int (γ only shifts the target).
         residual = f_norm > 0 ? equilibrium_defect(trial) / f_norm : 0.0;
+        // Small strains: an equilibrium found with displacements of the order of the body is a
+        // mechanism (a load at or above the plastic limit load), not an answer.
+        if (plastic_) {
+          double u_max = 0;
+          for (int n = 0; n < m_.mesh().n_nodes(); ++n)
+            u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
+          if (u_max > mechanism_fraction * model_size_) {
+            failed_in_linear_solver_ = false;
+            throw SolveError(fmt::format(
+                "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g}: the "
+                "body has become a mechanism (the load is at or above the plastic limit load), "
+                "which a small-strain analysis cannot follow",
+                u_max, 100 * mechanism_fraction, model_size_));
+          }
+        }
         return true;
       }
       if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
-      if (iterations == 0 && new_matrix) assemble_and_factorize(trial);
+      const bool refactor =
+          !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
+          (tangent_changed_ &&
+           (options_.matrix_per_iteration() || (options_.matrix_per_step() && iterations == 0)));
+      if (refactor) assemble_and_factorize(trial);
       auto t0 = Clock::now();
+      failed_in_linear_solver_ = true;
       solver_.solve(rhs, delta_);
+      failed_in_linear_solver_ = false;
       timings_.solve += seconds_since(t0);
       for (int i = 0; i < dofs.n_dofs(); ++i)
         if (int k = dofs.eq[i]; k >= 0) trial.u[i] += delta_[k];
     }
   }
+
+  int plastic_points() const { return plastic_points_; }
 
   double equilibrium_defect(const State& s) const {
     double r = 0;
@@ -140,16 +235,37 @@ class StepSolver {
       if (t_min[k] <= t_max[k]) m_.materials()[k].warn_outside(t_min[k], t_max[k], log_);
   }
 
-  /// Point update and internal forces: σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12).
+  /// Per point, what stays fixed during the step (flow direction, start slope, the curve at
+  /// t+Δt) and the scheme's initial parameters.
+  void begin_plastic_step(const State& c, const State& trial) {
+    const auto& mesh = m_.mesh();
+    const int n_cells = mesh.cells.size();
+#pragma omp parallel for schedule(static) if (n_cells > 4000)
+    for (int e = 0; e < n_cells; ++e) {
+      const auto& mat = m_.material_of(e);
+      if (!mat.plastic()) continue;
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
+        point_step_[p] = begin_point_step(options_, trial.constants[p], *mat.hardening,
+                                          trial.temperature[p], mat.elastic_unloading,
+                                          c.stress[p], c.eps_p_eq[p], c.flowing[p] != 0,
+                                          point_iter_[p]);
+    }
+  }
+
+  /// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
+  /// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
   void update_points(const State& c, State& trial) {
     auto t0 = Clock::now();
     const auto& mesh = m_.mesh();
     trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
+    std::atomic<bool> changed{false};
+    std::atomic<int> undefined_cell{-1};
     m_.assembler().vector(
         [&](int e, CellBuffers& b) {
           const auto nodes = mesh.cells.nodes(e);
           const int n = static_cast<int>(nodes.size());
           const auto& tab = reference_table(mesh.cells.type[e]);
+          const bool plastic = m_.material_of(e).plastic();
           Vec3 x[max_cell_nodes];
           double du[3 * max_cell_nodes], dNdx[3 * max_cell_nodes];
           for (int a = 0; a < n; ++a) {
@@ -160,14 +276,77 @@ class StepSolver {
             const double det = physical_gradients(tab, q, std::span<const Vec3>(x, n), dNdx);
             const int p = m_.point_offset(e) + q;
             const Voigt d_eps = strain_from_gradients(n, dNdx, du);
-            trial.stress[p] = elastic_stress_update(c.constants[p], c.temperature[p],
-                                                    trial.constants[p], trial.temperature[p],
-                                                    c.stress[p], d_eps);
+            if (!plastic) {
+              trial.stress[p] = elastic_stress_update(c.constants[p], c.temperature[p],
+                                                      trial.constants[p], trial.temperature[p],
+                                                      c.stress[p], d_eps);
+            } else {
+              const Voigt d_mech =
+                  d_eps - thermal_strain_increment(c.constants[p], c.temperature[p],
+                                                   trial.constants[p], trial.temperature[p],
+                                                   c.stress[p]);
+              const PointUpdate u = evaluate_point(options_, trial.constants[p], point_step_[p],
+                                                   point_iter_[p], c.stress[p], d_mech);
+              if (u.undefined) {
+                int none = -1;
+                undefined_cell.compare_exchange_strong(none, e);
+                trial.stress[p] = c.stress[p];
+                continue;
+              }
+              trial.stress[p] = u.sigma;
+              trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
+              trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
+              trial.eps_ep[p] = u.eps_ep;
+              trial.eps_ep_max[p] = std::max(c.eps_ep_max[p], u.eps_ep);
+              trial.flowing[p] = u.plastic;
+              defect_sigma_[p] = u.defect_sigma;
+              defect_eps_[p] = u.defect_eps;
+              const Tangent& old = tangent_[p];
+              if (old.dev_scale != u.tangent.dev_scale || old.coef != u.tangent.coef ||
+                  old.v != u.tangent.v) {
+                tangent_[p] = u.tangent;
+                changed.store(true, std::memory_order_relaxed);
+              }
+            }
             add_bt_sigma(n, dNdx, trial.stress[p], det * tab.weights[q], b.fe);
           }
         },
         trial.f_int);
+    tangent_changed_ = changed.load();
+    if (const int e = undefined_cell.load(); e >= 0) {
+      timings_.material += seconds_since(t0);
+      failed_in_linear_solver_ = false;
+      throw SolveError(fmt::format(
+          "scheme '{}' needs the strain form ε̃ = F(σ̃) of the curve of material '{}' above the "
+          "largest stress the curve reaches (element {}): F is not defined there (perfect "
+          "plasticity, a table's flat end). Use initial-stress, initial-stress-stiffness, "
+          "variable-stiffness with curve_form: stress, or newton",
+          scheme_name(options_.kind), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
+    }
+    if (plastic_) measures(trial);
     timings_.material += seconds_since(t0);
+  }
+
+  /// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the
+  /// points' numerators over that of σ̃ (resp. ε̃^{e+p}) over the plastic materials.
+  void measures(const State& trial) {
+    double ns = 0, ds = 0, ne = 0, de = 0;
+    int n_plastic = 0;
+    const auto& mesh = m_.mesh();
+    for (int e = 0; e < mesh.cells.size(); ++e) {
+      if (!m_.material_of(e).plastic()) continue;
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+        const double w = point_volume_[p], q = von_mises(trial.stress[p]);
+        ns += w * defect_sigma_[p] * defect_sigma_[p];
+        ds += w * q * q;
+        ne += w * defect_eps_[p] * defect_eps_[p];
+        de += w * trial.eps_ep[p] * trial.eps_ep[p];
+        n_plastic += trial.flowing[p];
+      }
+    }
+    delta_sigma_ = ds > 0 ? std::sqrt(ns / ds) : 0.0;
+    delta_eps_ = de > 0 ? std::sqrt(ne / de) : 0.0;
+    plastic_points_ = n_plastic;
   }
 
   void assemble_and_factorize(const State& trial) {
@@ -180,7 +359,9 @@ class StepSolver {
           const int n = static_cast<int>(nodes.size());
           const int nd = 3 * n;
           const auto& tab = reference_table(mesh.cells.type[e]);
-          Vec3 x[max_cell_nodes];
+          const bool plastic = m_.material_of(e).plastic();
+          const Tangent elastic;
+          Vec3 x[max_cell_nodes], bv[max_cell_nodes];
           double dNdx[3 * max_cell_nodes];
           for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
           for (int q = 0; q < tab.n_points; ++q) {
@@ -188,7 +369,26 @@ class StepSolver {
                              tab.weights[q];
             const int p = m_.point_offset(e) + q;
             const ElasticConstants& k = trial.constants[p];
-            const double lam = k.lame_lambda() * w, mu = k.shear_modulus() * w;
+            // C = D + dev_scale·2G·I_dev + coef·v vᵀ (material/plastic_point.hpp): an isotropic
+            // part and, for plastic points, a rank-one part.
+            const Tangent& t = plastic ? tangent_[p] : elastic;
+            const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
+            if (t.coef != 0) {
+              // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
+              const Voigt& v = t.v;
+              for (int a = 0; a < n; ++a) {
+                const double* g = dNdx + 3 * a;
+                bv[a] = Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5],
+                             g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
+                             g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
+              }
+              const double cw = t.coef * w;
+              for (int a = 0; a < n; ++a)
+                for (int bb = a; bb < n; ++bb)
+                  for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                      b.ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
+            }
             // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
             for (int a = 0; a < n; ++a) {
               const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
@@ -217,7 +417,10 @@ class StepSolver {
       solver_.analyze(m_.assembler().pattern());
       analyzed_ = true;
     }
+    failed_in_linear_solver_ = true;
     solver_.factorize(values_);
+    failed_in_linear_solver_ = false;
+    ++factorizations_;
     factorized_ = true;
     timings_.factorization += seconds_since(t0);
   }
@@ -229,6 +432,21 @@ class StepSolver {
   bool matrix_changes_with_temperature_ = false;
   bool analyzed_ = false, factorized_ = false;
   std::vector<double> values_, scratch_, target_, rhs_, delta_;
+  // Plasticity
+  bool plastic_ = false;
+  SchemeOptions options_;
+  std::vector<PointStep> point_step_;
+  std::vector<PointIteration> point_iter_;
+  std::vector<Tangent> tangent_;  ///< per point: the matrix of the last assembly
+  std::vector<double> defect_sigma_, defect_eps_, point_volume_;
+  bool tangent_changed_ = false;
+  double delta_sigma_ = 0, delta_eps_ = 0;
+  int plastic_points_ = 0;
+  int factorizations_ = 0;
+  bool failed_in_linear_solver_ = false;
+  double model_size_ = 0;  ///< diagonal of the mesh's bounding box
+  /// Displacements above this fraction of the model size stop a plastic step (mechanism).
+  static constexpr double mechanism_fraction = 0.05;
 };
 
 }  // namespace
@@ -248,6 +466,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
   };
   std::deque<Target> targets;
   for (double t : spec.times) targets.push_back({t, 0});
+  int factorizations_before = 0;
   while (!targets.empty()) {
     const double t1 = targets.front().time;
     const int depth = targets.front().depth;
@@ -261,7 +480,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
         why = fmt::format("no convergence in {} iterations (relative residual {:.3e})",
                           iterations, residual);
     } catch (const SolveError& e) {
-      if (result.steps == 0 && iterations == 0)
+      if (result.steps == 0 && iterations == 0 && stepper.failed_in_linear_solver())
         throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},
                          std::string(e.what()) +
                              ": the body is not held against rigid-body motion (translations "
@@ -278,6 +497,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
         continue;
       }
       result.status = AnalysisStatus::not_converged;
+      result.factorizations = stepper.factorizations();
       result.failure = fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1,
                                    depth, why);
       log.info("{}", result.failure);
@@ -286,9 +506,27 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     targets.pop_front();
     std::swap(committed, trial);
     ++result.steps;
-    StepReport report{result.steps, t1, iterations, residual, targets.empty()};
-    log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}", report.step,
-             report.time, report.iterations, report.residual);
+    StepReport report;
+    report.step = result.steps;
+    report.time = t1;
+    report.iterations = iterations;
+    report.residual = residual;
+    report.delta_sigma = stepper.delta_sigma();
+    report.delta_eps = stepper.delta_eps();
+    report.factorizations = stepper.factorizations() - factorizations_before;
+    report.plastic_points = stepper.plastic_points();
+    report.last = targets.empty();
+    factorizations_before = stepper.factorizations();
+    result.factorizations = stepper.factorizations();
+    if (model.has_plasticity()) {
+      log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
+               report.step, report.time, report.iterations, report.residual,
+               report.plastic_points);
+      stepper.check_curves(committed);
+    } else {
+      log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}", report.step,
+               report.time, report.iterations, report.residual);
+    }
     const auto t0 = Clock::now();
     observer.step_done(report, committed);
     timings.output += seconds_since(t0);

@@ -1,7 +1,8 @@
 #pragma once
-// The incremental step loop (report section 2) for the thermo-elastic model. Each step
-// solves for the displacement increment with the error correction (2.29)-(2.30); the
-// iteration inside a step is written once so that the nonlinear schemes plug into it.
+// The incremental step loop (report section 2). Each step solves for the displacement
+// increment with the error correction (2.29)-(2.30); the iteration inside a step is written
+// once, in residual form, and the schemes of solve/schemes.hpp plug into it as point laws.
+#include <cstdint>
 #include <vector>
 
 #include "io/log.hpp"
@@ -21,6 +22,12 @@ struct State {
   std::vector<ElasticConstants> constants;  ///< E, ν, α at the point's temperature
   std::vector<double> f_ext;                ///< external nodal forces, 3 per node
   std::vector<double> f_int;                ///< internal nodal forces ∫Bᵀσ, 3 per node
+  // Plasticity, per integration point (zero for elastic materials):
+  std::vector<Voigt> plastic_strain;   ///< ε^p, engineering shears
+  std::vector<double> eps_p_eq;        ///< ε̃^p, equivalent plastic strain (hardening variable)
+  std::vector<double> eps_ep;          ///< ε̃^{e+p}, the scalar the schemes advance
+  std::vector<double> eps_ep_max;      ///< the largest ε̃^{e+p} reached
+  std::vector<std::uint8_t> flowing;   ///< 1: flowed plastically in the step that ended here
 };
 
 struct StepReport {
@@ -28,6 +35,10 @@ struct StepReport {
   double time = 0;
   int iterations = 0;
   double residual = 0;     ///< ‖F_ext − F_int‖ on the free dofs, relative
+  double delta_sigma = 0;  ///< the scheme's Δ^σ of the last iteration (0 without plasticity)
+  double delta_eps = 0;    ///< the scheme's Δ^ε of the last iteration
+  int factorizations = 0;  ///< matrix factorizations in this step (cut-back attempts included)
+  int plastic_points = 0;  ///< integration points that flowed plastically in this step
   bool last = false;       ///< the final step of the analysis
 };
 
@@ -48,6 +59,7 @@ struct AnalysisResult {
   AnalysisStatus status = AnalysisStatus::converged;
   int steps = 0;
   int iterations = 0;
+  int factorizations = 0;
   std::string failure;  ///< why the analysis stopped, when it did
 };
 

@@ -67,7 +67,12 @@ void Model::bind_materials(Log& log) {
   const auto& specs = case_->materials;
   cell_material_.assign(mesh_.cells.size(), -1);
   for (std::size_t m = 0; m < specs.size(); ++m) {
-    materials_.push_back(MaterialModel{&specs[m]});
+    materials_.push_back(MaterialModel{&specs[m], nullptr, true});
+    if (const auto& pl = specs[m].plasticity) {
+      materials_.back().hardening = std::make_shared<Hardening>(*pl, specs[m].E, specs[m].nu);
+      materials_.back().elastic_unloading =
+          pl->unloading == PlasticitySpec::Unloading::elastic;
+    }
     if (specs[m].regions.empty()) {
       std::fill(cell_material_.begin(), cell_material_.end(), static_cast<int>(m));
       continue;
@@ -102,7 +107,22 @@ void Model::bind_materials(Log& log) {
         if (!p->is_constant())
           throw InputError(p->where, "a table over temperature needs a 'temperature' section "
                                      "(with its 'reference') in the case");
-  (void)log;
+  // Linear tetrahedra lock under the incompressible flow of plasticity (one constant strain per
+  // element cannot be isochoric in a whole patch).
+  int n_tet4 = 0;
+  for (int e = 0; e < mesh_.cells.size(); ++e)
+    n_tet4 += mesh_.cells.type[e] == CellType::tet4 && materials_[cell_material_[e]].plastic();
+  if (n_tet4 > 0)
+    log.warn(fmt::format("{} 4-node tetrahedra have a plastic material: linear tetrahedra lock "
+                         "under incompressible plastic flow and overestimate stiffness and limit "
+                         "loads; use 10-node tetrahedra (mesh.order: 2) or hexahedra",
+                         n_tet4));
+}
+
+bool Model::has_plasticity() const {
+  for (const auto& m : materials_)
+    if (m.plastic()) return true;
+  return false;
 }
 
 void Model::check_cells() {

@@ -10,12 +10,17 @@
 #include "io/log.hpp"
 #include "linalg/assembler.hpp"
 #include "material/elastic.hpp"
+#include "material/hardening.hpp"
 #include "mesh/mesh.hpp"
 
 namespace hencky {
 
 struct MaterialModel {
   const MaterialSpec* spec;
+  /// The hardening curve of a plastic material (shared: MaterialModel is copied).
+  std::shared_ptr<const Hardening> hardening;
+  bool elastic_unloading = true;
+  bool plastic() const { return hardening != nullptr; }
   /// E, ν, α at temperature T; *outside is set when T leaves a property's table. Thread-safe.
   ElasticConstants at(double T, bool* outside = nullptr) const;
   /// Warns (once per message) when [T_min, T_max] leaves a property's table.
@@ -59,6 +64,8 @@ class Model {
   const std::vector<ReactionRegion>& reaction_regions() const { return reactions_; }
   double reference_temperature() const { return reference_temperature_; }
   bool has_temperature() const { return case_->temperature.given; }
+  /// Some material has a hardening curve.
+  bool has_plasticity() const;
 
   /// Nodal temperature at time t (T_ref everywhere without a temperature section).
   void nodal_temperature(double t, std::vector<double>& T) const;

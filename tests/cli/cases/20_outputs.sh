@@ -78,7 +78,8 @@ done
 if [ -z "$missing" ]; then ok "step_0002.vtu: plastic and contact arrays of the contract"
 else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
 
-# --- history.csv: the header of the contract, one row per step, final row = summary.
+# --- history.csv: the header of the contract (plus hencky's columns at the end), one row per
+# step, final row = summary.
 cols="step,time,iterations,residual"
 for p in A mid; do
   cols="$cols,$p.displacement.x,$p.displacement.y,$p.displacement.z"
@@ -86,12 +87,14 @@ for p in A mid; do
   cols="$cols,$p.von_mises,$p.equivalent_plastic_strain,$p.temperature"
 done
 cols="$cols,reaction.clamp.x,reaction.clamp.y,reaction.clamp.z"
+# hencky's own columns after the contract's: the scheme's measures and counts per step
+cols="$cols,delta_sigma,delta_epsilon,factorizations,plastic_points"
 header="$(head -n 1 "$o/history.csv" 2>/dev/null)"
-if [ "$header" = "$cols" ]; then ok "history.csv: header step,time,iterations,residual, probe and reaction columns"
+if [ "$header" = "$cols" ]; then ok "history.csv: header step,time,iterations,residual, probe, reaction and scheme columns"
 else bad "history.csv: wrong header" "expected: $cols"$'\n'"got:      $header"; fi
 ex_check "history.csv: 2 numeric rows (steps 1, 2 at t = 0.5, 1); the last one matches summary.json" "$o/summary.json" '
 (rows := [l.split(",") for l in open(sys.argv[1].replace("summary.json", "history.csv")).read().split("\n")[1:] if l]) is not None
-and len(rows) == 2 and all(len(r) == 31 for r in rows) and all(float(v) == float(v) for r in rows for v in r)
+and len(rows) == 2 and all(len(r) == 35 for r in rows) and all(float(v) == float(v) for r in rows for v in r)
 and [int(r[0]) for r in rows] == [1, 2] and [float(r[1]) for r in rows] == [0.5, 1.0]
 and close(float(rows[1][6]), s["probes"]["A"]["displacement"]["z"], 1e-12)
 and close(float(rows[1][30]), s["reactions"]["clamp"]["z"], 1e-12)'

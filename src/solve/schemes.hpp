@@ -1,0 +1,107 @@
+#pragma once
+// The iteration schemes of the formulation (report 2.32-2.46) and the reference `newton`, as
+// point laws. The step loop (analysis.cpp) is written once in residual form:
+//
+//   K_k δ = F_target − F_int(σ_k),   Δu_{k+1} = Δu_k + δ,
+//
+// where σ_k is the stress each scheme assigns to the iterate Δu_k after updating its parameters
+// (β*, Δε^0, Δσ^0) from it, and K_k the matrix of the scheme. With σ_k = D̃(β*)(Δε_k − Δε^th −
+// Δε^0) + Δσ^0 this is algebraically the report's equation (2.29) for iteration k+1 (the terms
+// K_kΔu_k cancel), so every scheme is reproduced as written, with the error correction (2.30)
+// in F_target. docs/schemes.md derives this.
+//
+// All five schemes share one converged point law: the stress, projected on the step's flow
+// direction Z, lands on the curve, Zᵀσ(t+Δt) = Φ(ε̃^{e+p}(t) + Δε̃^{e+p}), with the plastic
+// strain increment along Z. They differ in the path: which matrix (elastic D, the start-of-step
+// tangent D̃(β*_0), or the secant D̃(β*_k) rebuilt every iteration) and which pseudo-load
+// corrects the defect (initial strains in F-form, initial stresses in Φ-form).
+//
+// Definitions the report leaves open (docs/schemes.md):
+// - the scalar increment Δε̃^{e+p} of a strain increment x = Δε − Δε^th is its projection
+//   ZᵀDx / 3G (signed): the scalar the matrix D̃ of (2.9) works with, since ZᵀD̃x = tanβ*·ZᵀDx/3G;
+// - ε̃^{e+p}(t) at the start of a step is ε̃^p(t) + Zᵀσ(t)/3G(t+Δt): the advanced scalar on
+//   proportional paths, kept consistent with the actual stress on others and after reversals;
+// - Z is Mσ(t)/σ̃(t) (2.10) for a point that was flowing plastically at t; for a point that was
+//   elastic at t (σ̃(t) = 0 included) it is the direction of the current elastic trial stress.
+#include <string>
+
+#include "material/plastic_point.hpp"
+
+namespace hencky {
+
+enum class SchemeKind {
+  newton,
+  variable_stiffness,        // 1: (2.32)-(2.34)
+  initial_strain,            // 2: (2.35)-(2.37)
+  initial_strain_stiffness,  // 3: (2.38)-(2.40)
+  initial_stress,            // 4: (2.41)-(2.43)
+  initial_stress_stiffness,  // 5: (2.44)-(2.46)
+};
+
+SchemeKind scheme_from_name(const std::string& name);
+const char* scheme_name(SchemeKind kind);
+
+struct SchemeOptions {
+  SchemeKind kind = SchemeKind::newton;
+  bool strain_form = false;  ///< variable-stiffness with curve_form: strain (2.34)
+  double omega = 1.0;        ///< relaxation of the initial-strain schemes
+
+  /// The matrix changes every iteration (it must be refactorized).
+  bool matrix_per_iteration() const {
+    return kind == SchemeKind::newton || kind == SchemeKind::variable_stiffness;
+  }
+  /// The matrix is the start-of-step tangent: one factorization per step.
+  bool matrix_per_step() const {
+    return kind == SchemeKind::initial_strain_stiffness ||
+           kind == SchemeKind::initial_stress_stiffness;
+  }
+  /// Uses the curve's strain form F = ε(σ) (undefined above the curve's largest stress).
+  bool uses_strain_form() const {
+    return kind == SchemeKind::initial_strain || kind == SchemeKind::initial_strain_stiffness ||
+           (kind == SchemeKind::variable_stiffness && strain_form);
+  }
+};
+
+/// What a point keeps fixed during one step.
+struct PointStep {
+  StepCurve curve;          ///< the curve at t+Δt, with elastic unloading from ε̃^p(t)
+  Voigt z = Voigt::Zero();  ///< Mσ(t)/σ̃(t) when flowing at t, else zero (from the trial)
+  bool flowing = false;     ///< the point flowed plastically in the step that ended at t
+  double tan0 = 0;          ///< tan β*_0: the curve's slope at the start of the step
+};
+
+/// The scheme's memory from one iteration to the next (discarded with the step).
+struct PointIteration {
+  double tan_beta = 0;  ///< tan β*_k (variable stiffness) or tan β**_k (initial stresses)
+  double lambda0 = 0;   ///< Δε^0 = Z·λ0 (initial strains)
+  double x_prev = 0;    ///< Δε̃^{e+p}_{k−1}
+  double ds_prev = 0;   ///< Δσ̃_{k−1}
+  bool plastic_prev = false;
+  int k = 0;            ///< iterations evaluated in this step
+};
+
+/// Everything the evaluation of one iterate gives back.
+struct PointUpdate {
+  Voigt sigma;            ///< σ_k
+  Voigt z;                ///< the flow direction used
+  double d_lambda = 0;    ///< total plastic multiplier: Δε^p = z·d_lambda
+  double eps_ep = 0;      ///< ε̃^{e+p}(t) + Δε̃^{e+p}_k
+  Tangent tangent;        ///< the scheme's matrix at this point for the next solve
+  bool plastic = false;   ///< plastic flow in this iterate
+  double defect_sigma = 0, defect_eps = 0;  ///< numerators of Δ^σ_k, Δ^ε_k
+  bool undefined = false;  ///< the strain form F was needed above the curve's largest stress
+};
+
+/// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
+PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
+                           const Hardening& h, double T1, bool elastic_unloading,
+                           const Voigt& sigma0, double eps_p0, bool flowing,
+                           PointIteration& it);
+
+/// Evaluates iterate k at a point: x = Δε_k − Δε^th. Updates `it` to the parameters of
+/// iteration k+1 and returns the stress σ_k and the matrix they define.
+PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
+                           const PointStep& ps, PointIteration& it, const Voigt& sigma0,
+                           const Voigt& x);
+
+}  // namespace hencky

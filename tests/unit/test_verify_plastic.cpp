@@ -1,0 +1,249 @@
+// Verification of plasticity through the whole solver: one element along a uniaxial
+// load-unload-reload path (every scheme), and the elastic-perfectly-plastic thick cylinder
+// under internal pressure against its closed form (Hill), up to and beyond the limit load.
+#include <gtest/gtest.h>
+
+#include "linalg/linear_solver.hpp"
+#include "solve/schemes.hpp"
+#include "verify_support.hpp"
+
+namespace hencky::verify {
+namespace {
+
+/// Runs a case in-process keeping every converged state (small meshes only).
+struct AllStates final : StepObserver {
+  std::vector<StepReport> reports;
+  std::vector<State> states;
+  void step_done(const StepReport& r, const State& s) override {
+    reports.push_back(r);
+    states.push_back(s);
+  }
+};
+
+struct FullRun {
+  Log log;
+  LoadedCase loaded;
+  AllStates all;
+  AnalysisResult result;
+  const Model& model() const { return *loaded.model; }
+};
+
+std::unique_ptr<FullRun> run_all(const fs::path& dir, const std::string& yaml) {
+  write_file(dir / "case.yaml", yaml);
+  auto r = std::make_unique<FullRun>();
+  r->log.quiet = true;
+  r->loaded = load_case(dir / "case.yaml", r->log);
+  auto solver = make_linear_solver(LinearSolverKind::direct);
+  Timings timings;
+  r->result = run_analysis(*r->loaded.model, *solver, r->log, timings, r->all);
+  return r;
+}
+
+const std::vector<std::string> all_schemes = {
+    "newton", "variable-stiffness", "initial-strain", "initial-strain-stiffness",
+    "initial-stress", "initial-stress-stiffness"};
+
+// ------------------------------------------------------------------------------------------
+// One hexahedron, uniaxial stress (rollers on x0, y0, z0; displacement of x1), linear hardening
+// σ = σ_y + H ε^p. The path: load to 4 yield strains, unload by 1.5 yield strains (slope E),
+// reload to 5 yield strains (back on the curve where it left it). The unloading stays inside
+// the elastic range (σ goes from 1.03 σ_y to −0.47 σ_y).
+TEST(VerifyPlastic, UniaxialLoadUnloadReloadEveryScheme) {
+  const double E = 2e11, nu = 0.3, sy = 2.4e8, H = 2e9, ey = sy / E;
+  const double e1 = 4 * ey, e2 = e1 - 1.5 * ey, e3 = 5 * ey;
+  auto strain_at = [&](double t) {
+    return t <= 1 ? e1 * t : (t <= 2 ? e1 + (e2 - e1) * (t - 1) : e2 + (e3 - e2) * (t - 2));
+  };
+  // Which schemes converge on this path (low hardening, H = 0.01 E) and why the others do not:
+  // - the initial-strain iteration contracts by 1 − ω(1 + E/H) at first yield under uniaxial
+  //   stress (elastic matrix, lateral strains free): it needs ω < 2H/(E + H) ≈ 0.0198; ω = 0.01;
+  // - variable-stiffness in strain form (2.34) oscillates at first yield (secant/tangent > 2).
+  struct Expect {
+    std::string scheme, form;
+    double omega;
+    bool converges;
+  };
+  const std::vector<Expect> expectations = {
+      {"newton", "stress", 1.0, true},
+      {"variable-stiffness", "stress", 1.0, true},
+      {"variable-stiffness", "strain", 1.0, false},
+      {"initial-strain", "stress", 0.01, true},
+      {"initial-strain-stiffness", "stress", 0.01, true},
+      {"initial-stress", "stress", 1.0, true},
+      {"initial-stress-stiffness", "stress", 1.0, true},
+  };
+  for (const auto& [scheme, form, omega, converges] : expectations) {
+    {
+      SCOPED_TRACE(scheme + " " + form);
+      TempDir dir("uniaxial-" + scheme);
+      write_file(dir / "cube.msh", cube_msh(1, GridCells::hex8, 0.0));
+      const std::string yaml = fmt::format(
+          "mesh: {{file: cube.msh}}\n"
+          "materials:\n  - {{E: {}, nu: {}, plasticity: {{linear: {{yield: {}, hardening: {}}}}}}}\n"
+          "boundary:\n"
+          "  - {{region: x0, displacement: {{x: 0}}}}\n"
+          "  - {{region: y0, displacement: {{y: 0}}}}\n"
+          "  - {{region: z0, displacement: {{z: 0}}}}\n"
+          "  - {{region: x1, displacement: {{x: \"t <= 1 ? {e1}*t : (t <= 2 ? {e1} + ({e2} - {e1})*(t - 1) : {e2} + ({e3} - {e2})*(t - 2))\"}}}}\n"
+          "solver: {{scheme: {}, curve_form: {}, relaxation: {}, times: [0.1, 0.2, 0.5, 1, 1.2, 1.5, 2, 2.2, 2.6, 3], tolerance: 1e-9, max_iterations: 200, cutback: 2}}\n",
+          num(E), num(nu), num(sy), num(H), scheme, form, num(omega), fmt::arg("e1", num(e1)),
+          fmt::arg("e2", num(e2)), fmt::arg("e3", num(e3)));
+      auto r = run_all(dir.path(), yaml);
+      report(fmt::format("uniaxial {:<26} {} after {} steps, iterations {:3d} factorizations {:2d}{}",
+                         scheme + (form == "strain" ? " (strain)" : ""),
+                         r->result.status == AnalysisStatus::converged ? "converged" : "STOPPED",
+                         r->all.reports.size(), r->result.iterations, r->result.factorizations,
+                         r->result.failure.empty() ? "" : ": " + r->result.failure));
+      EXPECT_EQ(r->result.status == AnalysisStatus::converged, converges);
+      // Hand calculation along the path: the largest plastic strain reached so far.
+      double ep = 0;
+      for (std::size_t k = 0; k < r->all.states.size(); ++k) {
+        const double t = r->all.reports[k].time, e = strain_at(t);
+        const State& s = r->all.states[k];
+        // elastic trial from the last plastic strain, capped by the curve
+        const double trial = E * (e - ep);
+        double sigma = trial;
+        if (trial > sy + H * ep) {
+          ep = (E * e - sy) / (E + H);
+          sigma = sy + H * ep;
+        }
+        for (std::size_t p = 0; p < s.stress.size(); ++p) {
+          EXPECT_NEAR(s.stress[p][0], sigma, 1e-7 * sy) << "t = " << t;
+          EXPECT_NEAR(s.stress[p][1], 0.0, 1e-7 * sy);
+          EXPECT_NEAR(s.eps_p_eq[p], ep, 1e-9) << "t = " << t;
+          EXPECT_NEAR(s.plastic_strain[p][0], ep, 1e-9);
+          EXPECT_NEAR(s.plastic_strain[p][1], -0.5 * ep, 1e-9);
+        }
+      }
+      if (!converges) continue;
+      // after the unloading (t = 2): residual plastic strain = the largest reached, stress
+      // = E(e2 − ep_max)
+      const State& s2 = r->all.states[6];
+      const double ep_max = (E * e1 - sy) / (E + H);
+      EXPECT_NEAR(s2.stress[0][0], E * (e2 - ep_max), 1e-7 * sy);
+      EXPECT_NEAR(s2.eps_p_eq[0], ep_max, 1e-9);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+// Elastic-perfectly-plastic thick cylinder a < r < b, internal pressure p, plane strain. With
+// k = σ_y/√3 and the plastic front at r = c (Hill, The Mathematical Theory of Plasticity, 1950,
+// ch. V; exact for the limit load, and for ν → 1/2 where σ_z is the mean of σ_r and σ_θ):
+//   p(c) = k (1 − c²/b² + 2 ln(c/a)),  p_L = 2k ln(b/a),
+//   σ_θ(a) = 2k − p,  u(b) = 2(1 − ν²) k c² / (E b)   (the elastic outer zone).
+struct Hill {
+  double a = 0.1, b = 0.2, E = 2e11, nu = 0.3, sy = 2.4e8;
+  double k() const { return sy / std::sqrt(3.0); }
+  double p_of_c(double c) const { return k() * (1 - c * c / (b * b) + 2 * std::log(c / a)); }
+  double limit() const { return 2 * k() * std::log(b / a); }
+  double c_of_p(double p) const {
+    double lo = a, hi = b;
+    for (int i = 0; i < 200; ++i) {
+      const double m = 0.5 * (lo + hi);
+      (p_of_c(m) < p ? lo : hi) = m;
+    }
+    return 0.5 * (lo + hi);
+  }
+  double u_outer(double p) const {
+    const double c = std::max(c_of_p(p), a);
+    if (p <= p_of_c(a)) return p * a * a * 2 * (1 - nu * nu) / (E * (b * b - a * a)) * b;
+    return 2 * (1 - nu * nu) * k() * c * c / (E * b);
+  }
+};
+
+std::string cylinder_case(const Hill& h, const std::string& scheme, double p_end, int steps) {
+  return fmt::format(
+      "mesh: {{file: ring.geo, order: 2}}\n"
+      "materials:\n  - {{E: {}, nu: {}, plasticity: {{perfect: {{yield: {}}}}}}}\n"
+      "boundary:\n"
+      "  - {{region: xsym, displacement: {{x: 0}}}}\n"
+      "  - {{region: ysym, displacement: {{y: 0}}}}\n"
+      "  - {{region: bottom, displacement: {{z: 0}}}}\n"
+      "  - {{region: top, displacement: {{z: 0}}}}\n"
+      "  - {{region: inner, pressure: \"{}*t\"}}\n"
+      "solver: {{scheme: {}, steps: {}, tolerance: 1e-8, max_iterations: 100, cutback: 3}}\n"
+      "output:\n  probes:\n    - {{name: bore, point: [{}, 0, 0]}}\n    - {{name: outer, point: [{}, 0, 0]}}\n",
+      num(h.E), num(h.nu), num(h.sy), num(p_end), scheme, steps, num(h.a), num(h.b));
+}
+
+/// Radius of the plastic front: the largest radius of an integration point that has flowed,
+/// and the smallest of one that has not (the front lies between them).
+std::pair<double, double> plastic_front(const Model& m, const State& s) {
+  double r_in = 0, r_out = 1e9;
+  const auto& mesh = m.mesh();
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    const auto& tab = reference_table(mesh.cells.type[e]);
+    const auto nodes = mesh.cells.nodes(e);
+    Vec3 x[max_cell_nodes];
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    for (int q = 0; q < tab.n_points; ++q) {
+      const Vec3 p = point_position(tab, q, std::span<const Vec3>(x, nodes.size()));
+      const double r = std::hypot(p.x(), p.y());
+      if (s.eps_p_eq[m.point_offset(e) + q] > 0) r_in = std::max(r_in, r);
+      else r_out = std::min(r_out, r);
+    }
+  }
+  return {r_in, r_out};
+}
+
+TEST(VerifyPlastic, ThickCylinderAgainstHillUpTo95PercentOfTheLimit) {
+  const Hill h;
+  TempDir dir("hill");
+  const int nr = 8;
+  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  const double p_end = 0.95 * h.limit();
+  auto r = run_all(dir.path(), cylinder_case(h, "newton", p_end, 19));
+  ASSERT_EQ(r->result.status, AnalysisStatus::converged) << r->result.failure;
+  const Model& m = r->model();
+  for (std::size_t k = 0; k < r->all.states.size(); ++k) {
+    const double p = p_end * r->all.reports[k].time;
+    const State& s = r->all.states[k];
+    const auto nodal = recover_nodal_stress(m, s);
+    const ProbeValues outer = probe_values(m, m.probes()[1], s, nodal);
+    const ProbeValues bore = probe_values(m, m.probes()[0], s, nodal);
+    const auto [r_in, r_out] = plastic_front(m, s);
+    const double c = h.c_of_p(p);
+    report(fmt::format("hill p/pL {:.3f}  u(b) {:.6e} (Hill {:.6e}, {:+.2f} %)  front [{:.4f}, "
+                       "{:.4f}] (Hill {:.4f})  sigma_t(a) {:.4e} (Hill {:.4e})",
+                       p / h.limit(), outer.displacement.x(), h.u_outer(p),
+                       100 * (outer.displacement.x() / h.u_outer(p) - 1), r_in, r_out, c,
+                       bore.stress[1], 2 * h.k() - p));
+    // u(b): within 2 % (the closed form takes σ_z as the mean of σ_r and σ_θ in the plastic
+    // zone, exact for ν = 1/2; with ν = 0.3 the radial stresses differ by about 1 %).
+    EXPECT_NEAR(outer.displacement.x(), h.u_outer(p), 0.02 * h.u_outer(p)) << "p/pL " << p / h.limit();
+    if (c > h.a + 0.1 * (h.b - h.a)) {
+      // the front lies between the last point that flowed and the first that did not, within
+      // one element of the closed form
+      EXPECT_GT(c, r_in - (h.b - h.a) / nr) << "p/pL " << p / h.limit();
+      EXPECT_LT(c, r_out + (h.b - h.a) / nr) << "p/pL " << p / h.limit();
+      // hoop stress at the bore (recovered to the node from the points)
+      EXPECT_NEAR(bore.stress[1], 2 * h.k() - p, 0.03 * h.sy);
+    }
+  }
+}
+
+TEST(VerifyPlastic, ThickCylinderStopsAtTheLimitLoad) {
+  const Hill h;
+  TempDir dir("hill-limit");
+  const int nr = 8;
+  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  // Ramp to 1.1 p_L, finely near p_L. The finite-element limit load is an upper bound of the
+  // exact one (a kinematically admissible field); with 20-node hexahedra and 8 elements across
+  // the wall it lies within 3 % of p_L: up to there the steps converge (the last ones with a
+  // displacement that grows without bound: the mechanism), beyond it none can.
+  std::string yaml = cylinder_case(h, "newton", h.limit(), 1);
+  yaml.replace(yaml.find("steps: 1"), 8,
+               "times: [0.9, 0.95, 0.98, 0.99, 1.0, 1.01, 1.02, 1.03, 1.05, 1.1]");
+  auto r = run_all(dir.path(), yaml);
+  EXPECT_EQ(r->result.status, AnalysisStatus::not_converged);
+  ASSERT_FALSE(r->all.reports.empty());
+  const double p_last = h.limit() * r->all.reports.back().time;
+  report(fmt::format("hill limit: last converged p/pL {:.4f} after {} steps; {}",
+                     p_last / h.limit(), r->all.reports.size(), r->result.failure));
+  EXPECT_GE(p_last, 0.99 * h.limit());
+  EXPECT_LE(p_last, 1.03 * h.limit());
+}
+
+}  // namespace
+}  // namespace hencky::verify
