@@ -104,16 +104,20 @@ struct Section {
   const std::vector<std::string>* keys;
 };
 const Section sections[] = {
-    {"the top level", &top_keys},      {"mesh", &mesh_keys},
-    {"materials[i]", &material_keys},  {"materials[i].plasticity", &plasticity_keys},
+    {"the top level", &top_keys},
+    {"mesh", &mesh_keys},
+    {"materials[i]", &material_keys},
+    {"materials[i].plasticity", &plasticity_keys},
     {"materials[i].plasticity.curve", &curve_keys},
     {"materials[i].plasticity.curve.table[j]", &curve_table_keys},
     {"materials[i].plasticity.perfect", &perfect_keys},
     {"materials[i].plasticity.linear", &linear_keys},
     {"materials[i].plasticity.ramberg_osgood", &ramberg_osgood_keys},
     {"temperature", &temperature_keys},
-    {"boundary[i]", &boundary_keys},   {"boundary[i].displacement", &xyz_keys},
-    {"solver", &solver_keys},          {"output", &output_keys},
+    {"boundary[i]", &boundary_keys},
+    {"boundary[i].displacement", &xyz_keys},
+    {"solver", &solver_keys},
+    {"output", &output_keys},
     {"output.probes[i]", &probe_keys},
 };
 
@@ -495,8 +499,10 @@ CurveSpec::Table read_curve_table(const Reader& r, const Val& item, bool several
               "the temperature of this table: E or nu depends on temperature, and the table is "
               "converted to plastic strains with their values there");
   }
-  const Val strain = m.require(r, "strain", "the strains of the curve's points, e.g. [0.00114, 0.01]");
-  const Val stress = m.require(r, "stress", "the stresses of the curve's points in Pa, e.g. [240e6, 260e6]");
+  const Val strain =
+      m.require(r, "strain", "the strains of the curve's points, e.g. [0.00114, 0.01]");
+  const Val stress =
+      m.require(r, "stress", "the stresses of the curve's points in Pa, e.g. [240e6, 260e6]");
   const auto es = r.list(strain, "a list of strains [e1, e2, ...]");
   const auto ss = r.list(stress, "a list of stresses [s1, s2, ...]");
   if (es.empty()) r.fail(strain, "expected at least one point, found an empty list");
@@ -523,12 +529,13 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
   for (const auto& k : curve_choices)
     if (m.has(k)) given.push_back(k);
   if (given.empty())
-    r.fail(v, "plasticity needs a hardening curve: one of 'curve', 'perfect', 'linear', "
-              "'ramberg_osgood' (e.g. perfect: {yield: 240e6})");
+    r.fail(v,
+           "plasticity needs a hardening curve: one of 'curve', 'perfect', 'linear', "
+           "'ramberg_osgood' (e.g. perfect: {yield: 240e6})");
   if (given.size() > 1)
-    throw InputError(r.at(m.key_mark(given[1]), m.get(given[1])->path),
-                     "give one hardening curve, found both '" + given[0] + "' and '" + given[1] +
-                         "'");
+    throw InputError(
+        r.at(m.key_mark(given[1]), m.get(given[1])->path),
+        "give one hardening curve, found both '" + given[0] + "' and '" + given[1] + "'");
   const Val c = *m.get(given[0]);
   CurveSpec& curve = p.curve;
   curve.where = r.at(c);
@@ -545,21 +552,24 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
                    "how the table is read: uniaxial (stress vs total strain of a tension test), "
                    "plastic (stress vs plastic strain) or intensity (stress vs strain intensity)"),
         curve_kinds, "curve kind");
-    curve.form = kind == "uniaxial" ? CurveSpec::Form::uniaxial
+    curve.form = kind == "uniaxial"  ? CurveSpec::Form::uniaxial
                  : kind == "plastic" ? CurveSpec::Form::plastic
                                      : CurveSpec::Form::intensity;
     const Val tv = cm.require(
         r, "table", "one entry per temperature: [{temperature: 20, strain: [...], stress: [...]}]");
     if (tv.node.IsMap())
-      r.fail(tv, "expected a list of tables (start each entry with '- ' or write [{...}]), found a "
-                 "map");
-    const auto items = r.list(tv, "a list of tables [{temperature: T, strain: [...], stress: [...]}]");
+      r.fail(tv,
+             "expected a list of tables (start each entry with '- ' or write [{...}]), found a "
+             "map");
+    const auto items =
+        r.list(tv, "a list of tables [{temperature: T, strain: [...], stress: [...]}]");
     if (items.empty()) r.fail(tv, "expected at least one table, found an empty list");
-    const bool converted = curve.form != CurveSpec::Form::plastic &&
-                           !(mat.E.is_constant() && mat.nu.is_constant());
+    const bool converted =
+        curve.form != CurveSpec::Form::plastic && !(mat.E.is_constant() && mat.nu.is_constant());
     for (const auto& item : items)
-      curve.tables.push_back(read_curve_table(r, item, items.size() > 1, converted,
-                                              curve.tables.empty() ? nullptr : &curve.tables.back()));
+      curve.tables.push_back(
+          read_curve_table(r, item, items.size() > 1, converted,
+                           curve.tables.empty() ? nullptr : &curve.tables.back()));
   } else if (given[0] == "perfect") {
     Map cm(r, c, perfect_keys, "a map {yield: 240e6}");
     curve.kind = CurveSpec::Kind::perfect;
@@ -570,8 +580,9 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
     curve.yield = yield(cm);
     curve.hardening = read_property(
         r,
-        cm.require(r, "hardening",
-                   "the plastic modulus dσ/dε^p in Pa, e.g. hardening: 2e9 (0: perfect plasticity)"),
+        cm.require(
+            r, "hardening",
+            "the plastic modulus dσ/dε^p in Pa, e.g. hardening: 2e9 (0: perfect plasticity)"),
         "hardening", Property::hardening);
   } else {
     Map cm(r, c, ramberg_osgood_keys, "a map {E: 2e11, yield: 240e6, alpha: 0.002, n: 10}");
@@ -579,7 +590,8 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
     curve.ro_E = r.positive(cm.require(
         r, "E", "the Young's modulus of the Ramberg-Osgood fit in Pa (usually the material's E)"));
     curve.yield = yield(cm);
-    curve.ro_alpha = r.positive(cm.require(r, "alpha", "the Ramberg-Osgood factor, e.g. alpha: 0.002"));
+    curve.ro_alpha =
+        r.positive(cm.require(r, "alpha", "the Ramberg-Osgood factor, e.g. alpha: 0.002"));
     const Val n = cm.require(r, "n", "the Ramberg-Osgood exponent (> 1), e.g. n: 10");
     curve.ro_n = r.number(n);
     if (!(curve.ro_n > 1)) r.fail(n, "expected an exponent n > 1, found " + num(curve.ro_n));

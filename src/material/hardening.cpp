@@ -24,9 +24,13 @@ std::string num(double v) {
 }
 
 /// A derived value, to 6 significant digits.
-std::string g6(double v) { return fmt::format("{:.6g}", v); }
+std::string g6(double v) {
+  return fmt::format("{:.6g}", v);
+}
 
-double three_g_of(double E, double nu) { return 3 * E / (2 * (1 + nu)); }  // 3G, G = E/(2(1+ν))
+double three_g_of(double E, double nu) {
+  return 3 * E / (2 * (1 + nu));
+}  // 3G, G = E/(2(1+ν))
 
 /// One table in plastic form: H linear between the breakpoints e[i], constant beyond the last.
 struct Piecewise {
@@ -224,8 +228,9 @@ void Hardening::convert_tables(const CurveSpec& c, const PropertyTable& E,
       if (!std::isfinite(eps) || !std::isfinite(sig))
         throw InputError(where, point + "expected finite numbers");
       if (i == 0 && !(sig > 0))
-        throw InputError(where, point + "the first point is the initial yield: its stress must be "
-                                        "> 0");
+        throw InputError(where, point +
+                                    "the first point is the initial yield: its stress must be "
+                                    "> 0");
       if (sig < 0) throw InputError(where, point + "stresses must be >= 0");
       double ep = eps;
       if (i == 0) {
@@ -249,7 +254,8 @@ void Hardening::convert_tables(const CurveSpec& c, const PropertyTable& E,
         const double prev = pt.eps_p.back();
         if (!(ep > prev)) {
           if (c.form == CurveSpec::Form::plastic)
-            throw InputError(where, point + "the plastic strain must be strictly increasing, found " +
+            throw InputError(where, point +
+                                        "the plastic strain must be strictly increasing, found " +
                                         num(ep) + " after " + num(prev));
           if (!(ep > 0))
             throw InputError(where, point + "the point lies on or left of the elastic line " +
@@ -258,7 +264,8 @@ void Hardening::convert_tables(const CurveSpec& c, const PropertyTable& E,
           throw InputError(where, point + "its plastic strain " + strain_name + " = " + g6(ep) +
                                       " does not increase from the previous point's " + g6(prev) +
                                       "; from one point to the next the stress may not rise "
-                                      "faster than along the elastic line " + elastic_line);
+                                      "faster than along the elastic line " +
+                                      elastic_line);
         }
         const double slope = (sig - pt.stress.back()) / (ep - prev);
         if (!(slope > -three_g))

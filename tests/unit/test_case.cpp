@@ -537,8 +537,9 @@ TEST_F(CaseTest, PlasticityCurveTables) {
   EXPECT_EQ(t.point_where[1].key, "materials[0].plasticity.curve.table[0].strain[1]");
 
   // one table: the temperature may be left out; several: each has one, increasing
-  c = read(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [2e8, 3e8]}]}\n"
-                   "      unloading: curve\n");
+  c = read(phead +
+           "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [2e8, 3e8]}]}\n"
+           "      unloading: curve\n");
   EXPECT_EQ(c.materials[0].plasticity->curve.form, CurveSpec::Form::plastic);
   EXPECT_EQ(c.materials[0].plasticity->unloading, PlasticitySpec::Unloading::curve);
   EXPECT_EQ(c.materials[0].plasticity->curve.tables[0].strain.size(), 2u);
@@ -590,20 +591,20 @@ TEST_F(CaseTest, PlasticityKeyErrors) {
   expect_error(phead + "      kind: uniaxial\n",
                {"case.yaml:7:7", "'materials[0].plasticity.kind'", "unknown key 'kind'",
                 "'kind' is a key of 'materials[i].plasticity.curve'"});
-  expect_error(phead + "      perfect: {yeild: 1e8}\n",
-               {"case.yaml:7:17", "'materials[0].plasticity.perfect.yeild'",
-                "did you mean 'yield'?"});
+  expect_error(
+      phead + "      perfect: {yeild: 1e8}\n",
+      {"case.yaml:7:17", "'materials[0].plasticity.perfect.yeild'", "did you mean 'yield'?"});
   expect_error(phead + "      perfect: {}\n",
                {"'materials[0].plasticity.perfect.yield'", "missing key 'yield'"});
   expect_error(phead + "      curve: {kind: uniaxal, table: []}\n",
                {"case.yaml:7:21", "'materials[0].plasticity.curve.kind'",
                 "unknown curve kind 'uniaxal'; did you mean 'uniaxial'?"});
   expect_error(phead + "      curve: {table: [{strain: [0], stress: [1e8]}]}\n",
-               {"'materials[0].plasticity.curve.kind'", "missing key 'kind'", "uniaxial",
-                "plastic", "intensity"});
-  expect_error(phead + "      curve: {kind: plastic, table: {strain: [0], stress: [1e8]}}\n",
-               {"'materials[0].plasticity.curve.table'", "expected a list of tables",
-                "found a map"});
+               {"'materials[0].plasticity.curve.kind'", "missing key 'kind'", "uniaxial", "plastic",
+                "intensity"});
+  expect_error(
+      phead + "      curve: {kind: plastic, table: {strain: [0], stress: [1e8]}}\n",
+      {"'materials[0].plasticity.curve.table'", "expected a list of tables", "found a map"});
   expect_error(phead + "      curve: {kind: plastic, table: []}\n",
                {"'materials[0].plasticity.curve.table'", "at least one table"});
   expect_error(phead + "      curve: {kind: plastic, table: [{strain: [], stress: []}]}\n",
@@ -611,24 +612,25 @@ TEST_F(CaseTest, PlasticityKeyErrors) {
   expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [1e8]}]}\n",
                {"'materials[0].plasticity.curve.table[0].stress'",
                 "expected 2 stresses (one per strain), found 1"});
-  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0, 0.1, 0.1], "
-                       "stress: [1e8, 2e8, 3e8]}]}\n",
+  expect_error(phead +
+                   "      curve: {kind: plastic, table: [{strain: [0, 0.1, 0.1], "
+                   "stress: [1e8, 2e8, 3e8]}]}\n",
                {"case.yaml:7:56", "'materials[0].plasticity.curve.table[0].strain[2]'",
                 "strains must be strictly increasing, found 0.1 after 0.1"});
   expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0], stres: [1e8]}]}\n",
                {"'materials[0].plasticity.curve.table[0].stres'", "did you mean 'stress'?"});
-  expect_error(phead + "      perfect: {yield: 1e8}\n      unloading: elastik\n",
-               {"case.yaml:8:18", "'materials[0].plasticity.unloading'",
-                "did you mean 'elastic'?"});
-  expect_error(phead + "      perfect: {yield: 0}\n",
-               {"case.yaml:7:24", "'materials[0].plasticity.perfect.yield'",
-                "yield must be > 0, found 0"});
+  expect_error(
+      phead + "      perfect: {yield: 1e8}\n      unloading: elastik\n",
+      {"case.yaml:8:18", "'materials[0].plasticity.unloading'", "did you mean 'elastic'?"});
+  expect_error(
+      phead + "      perfect: {yield: 0}\n",
+      {"case.yaml:7:24", "'materials[0].plasticity.perfect.yield'", "yield must be > 0, found 0"});
   expect_error(phead + "      linear: {yield: 1e8, hardening: 1e9, n: 3}\n",
                {"'materials[0].plasticity.linear.n'", "unknown key 'n'",
                 "'n' is a key of 'materials[i].plasticity.ramberg_osgood'"});
-  expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0.002, n: 1}\n",
-               {"'materials[0].plasticity.ramberg_osgood.n'", "expected an exponent n > 1",
-                "found 1"});
+  expect_error(
+      phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0.002, n: 1}\n",
+      {"'materials[0].plasticity.ramberg_osgood.n'", "expected an exponent n > 1", "found 1"});
   expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 240e6, alpha: 0, n: 5}\n",
                {"'materials[0].plasticity.ramberg_osgood.alpha'", "> 0", "found 0"});
   expect_error(phead + "      ramberg_osgood: {yield: 240e6, alpha: 0.002, n: 5}\n",
@@ -693,15 +695,16 @@ TEST_F(CaseTest, PlasticityCurveIsCheckedWithEAndNu) {
 )",
                {"case.yaml:11:41", "'materials[0].plasticity.curve.table[0]'",
                 "point 2 (strain 0.003, stress 5e+08)", "does not increase"});
-  expect_error(phead + "      curve: {kind: uniaxial, table: [{strain: [0.002, 0.01], "
-                       "stress: [240e6, 260e6]}]}\n",
-               {"case.yaml:7:49", "'materials[0].plasticity.curve.table[0]'", "point 0",
-                "the first point must be the yield point on the elastic line",
-                "i.e. strain 0.00114286"});
-  expect_error(phead + "      curve: {kind: plastic, table: [{strain: [0.001, 0.01], "
-                       "stress: [240e6, 260e6]}]}\n",
-               {"'materials[0].plasticity.curve.table[0]'", "point 0",
-                "its strain must be 0"});
+  expect_error(
+      phead +
+          "      curve: {kind: uniaxial, table: [{strain: [0.002, 0.01], "
+          "stress: [240e6, 260e6]}]}\n",
+      {"case.yaml:7:49", "'materials[0].plasticity.curve.table[0]'", "point 0",
+       "the first point must be the yield point on the elastic line", "i.e. strain 0.00114286"});
+  expect_error(phead +
+                   "      curve: {kind: plastic, table: [{strain: [0.001, 0.01], "
+                   "stress: [240e6, 260e6]}]}\n",
+               {"'materials[0].plasticity.curve.table[0]'", "point 0", "its strain must be 0"});
   expect_error(phead + "      linear: {yield: 240e6, hardening: -3e11}\n",
                {"case.yaml:7:41", "'materials[0].plasticity.linear.hardening'",
                 "must be > -3G = -2.42308e+11"});

@@ -37,7 +37,9 @@ PropertyTable over_temperature(std::vector<double> T, std::vector<double> v,
 // E(T) over two temperatures, ν constant: each table is converted with its own E and 3G.
 const PropertyTable E_T = over_temperature({20, 500}, {2.1e11, 1.7e11});
 const PropertyTable nu_c = constant(0.3);
-double three_g(double T) { return 3 * E_T(T) / (2 * (1 + nu_c(T))); }
+double three_g(double T) {
+  return 3 * E_T(T) / (2 * (1 + nu_c(T)));
+}
 
 std::string table_key(std::size_t j) {
   return "materials[0].plasticity.curve.table[" + std::to_string(j) + "]";
@@ -92,9 +94,8 @@ PlasticitySpec uniaxial_tables() {
                      table(1, 500, {150e6 / 1.7e11, 0.005, 0.08}, {150e6, 180e6, 200e6})});
 }
 PlasticitySpec plastic_tables() {
-  return table_spec(CurveSpec::Form::plastic,
-                    {table(0, 20, {0, 0.01, 0.05}, {240e6, 260e6, 300e6}),
-                     table(1, 500, {0, 0.02}, {150e6, 200e6})});
+  return table_spec(CurveSpec::Form::plastic, {table(0, 20, {0, 0.01, 0.05}, {240e6, 260e6, 300e6}),
+                                               table(1, 500, {0, 0.02}, {150e6, 200e6})});
 }
 PlasticitySpec intensity_tables() {
   return table_spec(CurveSpec::Form::intensity,
@@ -127,8 +128,9 @@ void expect_error(const PlasticitySpec& s, std::initializer_list<std::string> pa
 /// Under uniaxial stress σ̃ = σ and ε̃^p = ε^p: each input point (ε, σ) of the table at its own
 /// temperature must come back exactly from Φ, F and H. `plastic_of` converts the point's
 /// strain to its plastic strain as the form defines it.
-void expect_points_reproduced(const Hardening& h, const PlasticitySpec& s,
-                              const std::function<double(double eps, double sig, double T)>& plastic_of) {
+void expect_points_reproduced(
+    const Hardening& h, const PlasticitySpec& s,
+    const std::function<double(double eps, double sig, double T)>& plastic_of) {
   for (const auto& t : s.curve.tables) {
     const double T = t.temperature, g3 = three_g(T);
     for (std::size_t i = 0; i < t.strain.size(); ++i) {
@@ -147,7 +149,8 @@ TEST(Hardening, UniaxialTableReproducesItsPoints) {
   const PlasticitySpec s = uniaxial_tables();
   const Hardening h(s, E_T, nu_c);
   // ε^p = ε − σ/E(T_table), and the total uniaxial strain is σ/E + ε^p again
-  expect_points_reproduced(h, s, [](double eps, double sig, double T) { return eps - sig / E_T(T); });
+  expect_points_reproduced(h, s,
+                           [](double eps, double sig, double T) { return eps - sig / E_T(T); });
   const double ep = 0.05 - 300e6 / 2.1e11;
   EXPECT_DOUBLE_EQ(300e6 / 2.1e11 + ep, 0.05);
   EXPECT_DOUBLE_EQ(h.table_end(), 0.1 - 310e6 / 2.1e11);
@@ -235,17 +238,18 @@ std::vector<std::pair<std::string, Hardening>> all_curves() {
   c.emplace_back("uniaxial", Hardening(uniaxial_tables(), E_T, nu_c));
   c.emplace_back("plastic", Hardening(plastic_tables(), E_T, nu_c));
   c.emplace_back("intensity", Hardening(intensity_tables(), E_T, nu_c));
-  c.emplace_back("softening table",
-                 Hardening(table_spec(CurveSpec::Form::plastic,
-                                      {table(0, 20, {0, 0.01, 0.03, 0.06}, {240e6, 300e6, 200e6, 260e6})}),
-                           E_T, nu_c));
+  c.emplace_back(
+      "softening table",
+      Hardening(table_spec(CurveSpec::Form::plastic,
+                           {table(0, 20, {0, 0.01, 0.03, 0.06}, {240e6, 300e6, 200e6, 260e6})}),
+                E_T, nu_c));
   c.emplace_back("perfect", Hardening(analytic_spec(CurveSpec::Kind::perfect, yield_T), E_T, nu_c));
-  c.emplace_back("linear",
-                 Hardening(analytic_spec(CurveSpec::Kind::linear, yield_T,
-                                         over_temperature({20, 500}, {2e9, 1e9})),
-                           E_T, nu_c));
-  c.emplace_back("linear softening",
-                 Hardening(analytic_spec(CurveSpec::Kind::linear, yield_T, constant(-4e9)), E_T, nu_c));
+  c.emplace_back("linear", Hardening(analytic_spec(CurveSpec::Kind::linear, yield_T,
+                                                   over_temperature({20, 500}, {2e9, 1e9})),
+                                     E_T, nu_c));
+  c.emplace_back(
+      "linear softening",
+      Hardening(analytic_spec(CurveSpec::Kind::linear, yield_T, constant(-4e9)), E_T, nu_c));
   c.emplace_back("ramberg_osgood",
                  Hardening(ramberg_osgood_spec(yield_T, 2e11, 0.002, 7.5), E_T, nu_c));
   return c;
@@ -318,10 +322,13 @@ TEST(Hardening, SlopesAreDerivatives) {
     for (double T : temperatures) {
       SCOPED_TRACE(name + " at T = " + std::to_string(T));
       const double g3 = three_g(T);
-      expect_slopes("H", [&](double p) { return h.plastic(p, T); }, 1e-5, 0.12, smooth);
-      expect_slopes("Phi", [&](double e) { return h.phi(e, T, g3); }, 1e-5, 0.12, smooth);
+      expect_slopes(
+          "H", [&](double p) { return h.plastic(p, T); }, 1e-5, 0.12, smooth);
+      expect_slopes(
+          "Phi", [&](double e) { return h.phi(e, T, g3); }, 1e-5, 0.12, smooth);
       const double m = std::min(h.max_stress(T), 600e6);
-      expect_slopes("F", [&](double s) { return h.f(s, T, g3); }, 1e-3 * m, 0.999 * m, smooth);
+      expect_slopes(
+          "F", [&](double s) { return h.f(s, T, g3); }, 1e-3 * m, 0.999 * m, smooth);
       // the slopes of Φ and F follow from H': 3G·H'/(3G + H') and 1/(3G) + 1/H'
       for (double p : {0.003, 0.017, 0.04, 0.07}) {
         const Hardening::Point hp = h.plastic(p, T);
@@ -419,8 +426,8 @@ TEST(Hardening, PerfectAndSofteningEnds) {
   EXPECT_EQ(perfect.f(240.1e6, 20, g3).value, inf);
   EXPECT_EQ(perfect.phi(240e6 / g3, 20, g3).slope, 0.0);  // to the right of the yield point
   // linear softening: H = 240e6 − 4e9·ε^p down to 0 at ε^p = 0.06, then 0
-  const Hardening soft(analytic_spec(CurveSpec::Kind::linear, constant(240e6), constant(-4e9)),
-                       E_T, nu_c);
+  const Hardening soft(analytic_spec(CurveSpec::Kind::linear, constant(240e6), constant(-4e9)), E_T,
+                       nu_c);
   EXPECT_DOUBLE_EQ(soft.plastic(0.03, 20).value, 120e6);
   EXPECT_DOUBLE_EQ(soft.plastic(0.1, 20).value, 0.0);
   EXPECT_DOUBLE_EQ(soft.plastic(0.1, 20).slope, 0.0);
@@ -428,9 +435,9 @@ TEST(Hardening, PerfectAndSofteningEnds) {
   EXPECT_DOUBLE_EQ(soft.max_stress(20), 240e6);
   EXPECT_EQ(soft.f(250e6, 20, g3).value, inf);
   // a softening table: F finds the rising part before the peak
-  const Hardening table_soft(table_spec(CurveSpec::Form::plastic,
-                                        {table(0, 20, {0, 0.01, 0.03}, {240e6, 300e6, 200e6})}),
-                             E_T, nu_c);
+  const Hardening table_soft(
+      table_spec(CurveSpec::Form::plastic, {table(0, 20, {0, 0.01, 0.03}, {240e6, 300e6, 200e6})}),
+      E_T, nu_c);
   EXPECT_DOUBLE_EQ(table_soft.max_stress(20), 300e6);
   EXPECT_NEAR(table_soft.f(270e6, 20, g3).value, 0.005 + 270e6 / g3, 1e-15);
   EXPECT_EQ(table_soft.f(300e6, 20, g3).slope, inf);  // falling to the right of the peak
@@ -487,7 +494,8 @@ TEST(Hardening, WarnsOncePerMaterialOutsideTheTables) {
       .warn_outside("a", -100, 900, 0.05, log2);
   EXPECT_TRUE(log2.warnings().empty());
   Hardening(analytic_spec(CurveSpec::Kind::perfect,
-                          over_temperature({20, 500}, {240e6, 150e6}, "materials[0].plasticity.perfect.yield")),
+                          over_temperature({20, 500}, {240e6, 150e6},
+                                           "materials[0].plasticity.perfect.yield")),
             E_T, nu_c)
       .warn_outside("a", 20, 900, 5.0, log2);
   ASSERT_EQ(log2.warnings().size(), 1u);
@@ -524,8 +532,8 @@ TEST(Hardening, NonIncreasingPlasticStrainNamesTableAndPoint) {
 
 TEST(Hardening, FirstPointOnTheElasticLine) {
   // 240e6/2.1e11 = 0.001142857: 0.00114286 is within 1e-3 relative, 0.001145 is not
-  PlasticitySpec s = table_spec(CurveSpec::Form::uniaxial,
-                                {table(0, 20, {0.00114286, 0.01}, {240e6, 260e6})});
+  PlasticitySpec s =
+      table_spec(CurveSpec::Form::uniaxial, {table(0, 20, {0.00114286, 0.01}, {240e6, 260e6})});
   EXPECT_NO_THROW(Hardening(s, E_T, nu_c));
   s.curve.tables[0].strain[0] = 0.001145;
   expect_error(s, {"case.yaml:10:20: 'materials[0].plasticity.curve.table[0]': point 0",
@@ -534,8 +542,8 @@ TEST(Hardening, FirstPointOnTheElasticLine) {
   // intensity: on σ̃ = 3G·ε̃, with 3G at the table's temperature
   s = intensity_tables();
   s.curve.tables[1].strain[0] = 150e6 / three_g(20);
-  expect_error(s, {"case.yaml:11:20", "table[1]'", "point 0", "σ̃ = 3G·ε̃",
-                   "at the table's temperature 500"});
+  expect_error(
+      s, {"case.yaml:11:20", "table[1]'", "point 0", "σ̃ = 3G·ε̃", "at the table's temperature 500"});
   // plastic: the first strain is 0
   s = plastic_tables();
   s.curve.tables[1].strain[0] = 1e-4;
@@ -546,8 +554,9 @@ TEST(Hardening, FirstPointOnTheElasticLine) {
 TEST(Hardening, SlopeNotAboveMinusThreeG) {
   // a fall of dσ̃/dε̃^p = −3G turns the curve back in ε̃^{e+p}
   const double g3 = three_g(20);
-  PlasticitySpec s = table_spec(CurveSpec::Form::plastic,
-                                {table(0, 20, {0, 0.001, 0.002}, {400e6, 450e6, 450e6 - 1.01 * g3 * 0.001})});
+  PlasticitySpec s =
+      table_spec(CurveSpec::Form::plastic,
+                 {table(0, 20, {0, 0.001, 0.002}, {400e6, 450e6, 450e6 - 1.01 * g3 * 0.001})});
   expect_error(s, {"case.yaml:10:40", "table[0]'", "point 2", "falls too steeply",
                    "must be > -3G = -2.42308e+11"});
   s.curve.tables[0].stress[2] = 450e6 - 0.99 * g3 * 0.001;  // just above: allowed
@@ -556,10 +565,11 @@ TEST(Hardening, SlopeNotAboveMinusThreeG) {
   PropertyTable hard = constant(-0.95 * g3);
   hard.where = SourceLocation{"case.yaml", 7, 30, "materials[0].plasticity.linear.hardening"};
   expect_error(analytic_spec(CurveSpec::Kind::linear, constant(240e6), hard),
-               {"case.yaml:7:30", "'materials[0].plasticity.linear.hardening'",
-                "must be > -3G = -", "at temperature "});
+               {"case.yaml:7:30", "'materials[0].plasticity.linear.hardening'", "must be > -3G = -",
+                "at temperature "});
   hard.value = {-0.95 * three_g(500)};
-  EXPECT_NO_THROW(Hardening(analytic_spec(CurveSpec::Kind::linear, constant(240e6), hard), E_T, nu_c));
+  EXPECT_NO_THROW(
+      Hardening(analytic_spec(CurveSpec::Kind::linear, constant(240e6), hard), E_T, nu_c));
 }
 
 TEST(Hardening, OtherBadCurves) {
