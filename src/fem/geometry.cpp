@@ -1,5 +1,6 @@
 #include "fem/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hencky {
@@ -38,6 +39,48 @@ Vec3 face_normal(const ReferenceTable& t, int q, std::span<const Vec3> x) {
     t2 += x[a] * dN[2 * a + 1];
   }
   return t1.cross(t2);
+}
+
+double CellKinematics::compute(const ReferenceTable& t, std::span<const Vec3> x) {
+  n = t.n_nodes;
+  points = t.n_points;
+  bbar = uses_bbar(t.type);
+  volume = 0;
+  double det_min = INFINITY;
+  for (int q = 0; q < points; ++q) {
+    const double det = physical_gradients(t, q, x, &g[static_cast<std::size_t>(q) * 3 * n]);
+    det_min = std::min(det_min, det);
+    dv[q] = det * t.weights[q];
+    volume += dv[q];
+  }
+  if (!bbar || !(det_min > 0)) return det_min;
+  double mean[3 * max_cell_nodes] = {};
+  for (int q = 0; q < points; ++q)
+    for (int i = 0; i < 3 * n; ++i) mean[i] += dv[q] * grad(q)[i];
+  for (int i = 0; i < 3 * n; ++i) mean[i] /= volume;
+  for (int q = 0; q < points; ++q)
+    for (int i = 0; i < 3 * n; ++i) d[static_cast<std::size_t>(q) * 3 * n + i] = mean[i] - grad(q)[i];
+  return det_min;
+}
+
+Voigt CellKinematics::strain(int q, const double* u) const {
+  Voigt e = strain_from_gradients(n, grad(q), u);
+  if (bbar) {
+    const double* c = corr(q);
+    double dtheta = 0;
+    for (int i = 0; i < 3 * n; ++i) dtheta += c[i] * u[i];
+    for (int i = 0; i < 3; ++i) e[i] += dtheta / 3;
+  }
+  return e;
+}
+
+void CellKinematics::add_bt_sigma(int q, const Voigt& s, double w, double* f) const {
+  hencky::add_bt_sigma(n, grad(q), s, w, f);
+  if (bbar) {
+    const double* c = corr(q);
+    const double p = w * (s[0] + s[1] + s[2]) / 3;
+    for (int i = 0; i < 3 * n; ++i) f[i] += p * c[i];
+  }
 }
 
 namespace {

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <span>
 
 #include "core/types.hpp"
@@ -48,5 +49,36 @@ inline void add_bt_sigma(int n, const double* dNdx, const Voigt& s, double w, do
     f[3 * a + 2] += w * (gz * s[2] + gy * s[3] + gx * s[4]);
   }
 }
+
+/// Cell types whose strain is the B-bar strain (Hughes, "Generalization of selective
+/// integration procedures to anisotropic and nonlinear media", IJNME 15, 1980): the volumetric
+/// part of the strain at each integration point is replaced by its mean over the cell. Fully
+/// integrated linear hexahedra and wedges lock under (nearly) isochoric deformation, which
+/// plastic flow is; with B-bar they do not, and they still pass the patch test. 4-node
+/// tetrahedra have one constant strain and gain nothing from it.
+inline bool uses_bbar(CellType t) { return t == CellType::hex8 || t == CellType::wedge6; }
+
+/// The strain-displacement operator of one cell at all its integration points: the gradients
+/// g_a(q) = ∇N_a, the volume weights dv(q) = det J · w, and for B-bar cells the corrections
+/// d_a(q) = b̄_a − g_a(q) with b̄_a = (1/V)∫ ∇N_a dV. Then
+///   ε̄ = ε + (1/3) m Σ_a d_a·u_a,   B̄_a = B_a + (1/3) m d_aᵀ,   m = (1, 1, 1, 0, 0, 0).
+struct CellKinematics {
+  int n = 0;         ///< nodes
+  int points = 0;    ///< integration points
+  bool bbar = false;
+  double volume = 0;
+  std::array<double, max_cell_points> dv{};
+  std::array<double, 3 * max_cell_nodes * max_cell_points> g{}, d{};
+
+  /// Fills everything for a cell with nodes x. Returns the smallest det J (≤ 0: the cell is
+  /// inverted or degenerate and nothing else is meaningful).
+  double compute(const ReferenceTable& table, std::span<const Vec3> x);
+  const double* grad(int q) const { return &g[static_cast<std::size_t>(q) * 3 * n]; }
+  const double* corr(int q) const { return &d[static_cast<std::size_t>(q) * 3 * n]; }
+  /// ε̄(q) of nodal displacements u.
+  Voigt strain(int q, const double* u) const;
+  /// f_a += w·B̄_aᵀ s.
+  void add_bt_sigma(int q, const Voigt& s, double w, double* f) const;
+};
 
 }  // namespace hencky

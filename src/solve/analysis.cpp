@@ -49,16 +49,13 @@ class StepSolver {
       defect_eps_.assign(n, 0.0);
       point_volume_.assign(n, 0.0);
       const auto& mesh = m.mesh();
-      double dNdx[3 * max_cell_nodes];
+      CellKinematics kin;
       Vec3 x[max_cell_nodes];
       for (int e = 0; e < mesh.cells.size(); ++e) {
         const auto nodes = mesh.cells.nodes(e);
-        const auto& tab = reference_table(mesh.cells.type[e]);
         for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
-        for (int q = 0; q < tab.n_points; ++q)
-          point_volume_[m.point_offset(e) + q] =
-              physical_gradients(tab, q, std::span<const Vec3>(x, nodes.size()), dNdx) *
-              tab.weights[q];
+        kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
+        for (int q = 0; q < kin.points; ++q) point_volume_[m.point_offset(e) + q] = kin.dv[q];
       }
     }
     matrix_changes_with_temperature_ = false;
@@ -264,18 +261,18 @@ class StepSolver {
         [&](int e, CellBuffers& b) {
           const auto nodes = mesh.cells.nodes(e);
           const int n = static_cast<int>(nodes.size());
-          const auto& tab = reference_table(mesh.cells.type[e]);
           const bool plastic = m_.material_of(e).plastic();
           Vec3 x[max_cell_nodes];
-          double du[3 * max_cell_nodes], dNdx[3 * max_cell_nodes];
+          double du[3 * max_cell_nodes];
           for (int a = 0; a < n; ++a) {
             x[a] = mesh.x[nodes[a]];
             for (int d = 0; d < 3; ++d) du[3 * a + d] = trial.u[3 * nodes[a] + d] - c.u[3 * nodes[a] + d];
           }
-          for (int q = 0; q < tab.n_points; ++q) {
-            const double det = physical_gradients(tab, q, std::span<const Vec3>(x, n), dNdx);
+          CellKinematics& kin = kinematics();
+          kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+          for (int q = 0; q < kin.points; ++q) {
             const int p = m_.point_offset(e) + q;
-            const Voigt d_eps = strain_from_gradients(n, dNdx, du);
+            const Voigt d_eps = kin.strain(q, du);
             if (!plastic) {
               trial.stress[p] = elastic_stress_update(c.constants[p], c.temperature[p],
                                                       trial.constants[p], trial.temperature[p],
@@ -308,7 +305,7 @@ class StepSolver {
                 changed.store(true, std::memory_order_relaxed);
               }
             }
-            add_bt_sigma(n, dNdx, trial.stress[p], det * tab.weights[q], b.fe);
+            kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
           }
         },
         trial.f_int);
@@ -358,15 +355,15 @@ class StepSolver {
           const auto nodes = mesh.cells.nodes(e);
           const int n = static_cast<int>(nodes.size());
           const int nd = 3 * n;
-          const auto& tab = reference_table(mesh.cells.type[e]);
           const bool plastic = m_.material_of(e).plastic();
           const Tangent elastic;
           Vec3 x[max_cell_nodes], bv[max_cell_nodes];
-          double dNdx[3 * max_cell_nodes];
           for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
-          for (int q = 0; q < tab.n_points; ++q) {
-            const double w = physical_gradients(tab, q, std::span<const Vec3>(x, n), dNdx) *
-                             tab.weights[q];
+          CellKinematics& kin = kinematics();
+          kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+          for (int q = 0; q < kin.points; ++q) {
+            const double w = kin.dv[q];
+            const double* dNdx = kin.grad(q);
             const int p = m_.point_offset(e) + q;
             const ElasticConstants& k = trial.constants[p];
             // C = D + dev_scale·2G·I_dev + coef·v vᵀ (material/plastic_point.hpp): an isotropic
@@ -388,6 +385,28 @@ class StepSolver {
                   for (int i = 0; i < 3; ++i)
                     for (int j = 0; j < 3; ++j)
                       b.ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
+            }
+            if (kin.bbar) {
+              // B̄_a = B_a + (1/3) m d_aᵀ: K_ab gains (1/3)(B_aᵀCm) d_bᵀ + (1/3) d_a (B_bᵀCm)ᵀ
+              // + (1/9)(mᵀCm) d_a d_bᵀ, with Cm = C·(1, 1, 1, 0, 0, 0).
+              Voigt m_vec;
+              m_vec << 1, 1, 1, 0, 0, 0;
+              const Voigt cm = t.times(k, m_vec) * w;
+              const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
+              const double* dq = kin.corr(q);
+              for (int a = 0; a < n; ++a) {
+                const double* g = dNdx + 3 * a;
+                bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
+                             g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
+                             g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) / 3;
+              }
+              for (int a = 0; a < n; ++a)
+                for (int bb = a; bb < n; ++bb)
+                  for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                      b.ke[(3 * a + i) * nd + 3 * bb + j] +=
+                          bv[a][i] * dq[3 * bb + j] + dq[3 * a + i] * bv[bb][j] +
+                          mcm * dq[3 * a + i] * dq[3 * bb + j];
             }
             // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
             for (int a = 0; a < n; ++a) {
@@ -423,6 +442,12 @@ class StepSolver {
     ++factorizations_;
     factorized_ = true;
     timings_.factorization += seconds_since(t0);
+  }
+
+  /// Per-thread scratch for a cell's kinematics (about 26 kB: not on every stack frame).
+  static CellKinematics& kinematics() {
+    thread_local CellKinematics kin;
+    return kin;
   }
 
   const Model& m_;

@@ -107,21 +107,17 @@ void Model::bind_materials(Log& log) {
         if (!p->is_constant())
           throw InputError(p->where, "a table over temperature needs a 'temperature' section "
                                      "(with its 'reference') in the case");
-  // Linear elements lock under the incompressible flow of plasticity (a constant or linear
-  // strain per element cannot be isochoric in a whole patch); B-bar for 8-node hexahedra is not
-  // in this version yet.
-  int n_linear = 0;
-  for (int e = 0; e < mesh_.cells.size(); ++e) {
-    const CellType t = mesh_.cells.type[e];
-    n_linear += (t == CellType::tet4 || t == CellType::hex8 || t == CellType::wedge6) &&
-                materials_[cell_material_[e]].plastic();
-  }
-  if (n_linear > 0)
-    log.warn(fmt::format("{} linear elements (4-node tetrahedra, 8-node hexahedra, 6-node "
-                         "wedges) have a plastic material: they lock under incompressible "
-                         "plastic flow and overestimate stiffness and limit loads; use quadratic "
-                         "elements (mesh.order: 2)",
-                         n_linear));
+  // 4-node tetrahedra lock under the incompressible flow of plasticity: one constant strain per
+  // element cannot be isochoric over a whole patch. Linear hexahedra and wedges use B-bar
+  // (fem/geometry.hpp) and do not.
+  int n_tet4 = 0;
+  for (int e = 0; e < mesh_.cells.size(); ++e)
+    n_tet4 += mesh_.cells.type[e] == CellType::tet4 && materials_[cell_material_[e]].plastic();
+  if (n_tet4 > 0)
+    log.warn(fmt::format("{} 4-node tetrahedra have a plastic material: they lock under "
+                         "incompressible plastic flow and overestimate stiffness and limit loads; "
+                         "use quadratic elements (mesh.order: 2)",
+                         n_tet4));
 }
 
 bool Model::has_plasticity() const {
