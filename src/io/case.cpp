@@ -90,7 +90,7 @@ const std::vector<std::string> conditions = {"displacement", "pressure", "tracti
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 const std::vector<std::string> solver_keys = {
     "scheme",    "curve_form", "steps",      "end",     "times", "max_iterations",
-    "tolerance", "relaxation", "correction", "cutback", "linear"};
+    "tolerance", "relaxation", "correction", "cutback", "linear", "mechanism_limit"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
@@ -906,6 +906,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
       r.fail(*x, "expected a number >= 0 (0 turns the correction off), found " + num(s.correction));
   }
   if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
+  if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
     if (l == "petsc")

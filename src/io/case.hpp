@@ -122,6 +122,9 @@ struct SolverSpec {
   double relaxation = 1.0;         ///< > 0
   double correction = 1.0;         ///< >= 0; 0 turns the error correction off
   int cutback = 4;                 ///< >= 0
+  /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
+  /// mesh's bounding box stops the run: the body has become a mechanism. > 0.
+  double mechanism_limit = 0.05;
   Linear linear = Linear::direct;  ///< petsc is rejected in this version
 };
 

@@ -169,13 +169,13 @@ class StepSolver {
           double u_max = 0;
           for (int n = 0; n < m_.mesh().n_nodes(); ++n)
             u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
-          if (u_max > mechanism_fraction * model_size_) {
+          if (u_max > spec.mechanism_limit * model_size_) {
             failed_in_linear_solver_ = false;
             throw SolveError(fmt::format(
-                "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g}: the "
-                "body has become a mechanism (the load is at or above the plastic limit load), "
-                "which a small-strain analysis cannot follow",
-                u_max, 100 * mechanism_fraction, model_size_));
+                "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g} "
+                "(solver.mechanism_limit): the body has become a mechanism (the load is at or "
+                "above the plastic limit load), which a small-strain analysis cannot follow",
+                u_max, 100 * spec.mechanism_limit, model_size_));
           }
         }
         return true;
@@ -470,8 +470,6 @@ class StepSolver {
   int factorizations_ = 0;
   bool failed_in_linear_solver_ = false;
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
-  /// Displacements above this fraction of the model size stop a plastic step (mechanism).
-  static constexpr double mechanism_fraction = 0.05;
 };
 
 }  // namespace

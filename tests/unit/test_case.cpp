@@ -133,6 +133,7 @@ solver:
   correction: 0
   cutback: 2
   linear: iterative
+  mechanism_limit: 0.2
 output:
   dir: results
   every: 2
@@ -216,6 +217,7 @@ output:
   EXPECT_EQ(c.solver.max_iterations, 30);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.8);
+  EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.2);
   EXPECT_DOUBLE_EQ(c.solver.correction, 0);
   EXPECT_EQ(c.solver.cutback, 2);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::iterative);
@@ -250,6 +252,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 1.0);
   EXPECT_DOUBLE_EQ(c.solver.correction, 1.0);
   EXPECT_EQ(c.solver.cutback, 4);
+  EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::direct);
   EXPECT_EQ(c.output.dir, dir_ / "case.out");
   EXPECT_EQ(c.output.every, 1);
@@ -752,6 +755,7 @@ TEST_F(CaseTest, SolverChoices) {
   expect_error(base + "solver:\n  correction: -0.5\n", {"'solver.correction'", ">= 0"});
   expect_error(base + "solver:\n  relaxation: 0\n", {"'solver.relaxation'", "> 0"});
   expect_error(base + "solver:\n  cutback: -1\n", {"'solver.cutback'", ">= 0"});
+  expect_error(base + "solver:\n  mechanism_limit: 0\n", {"'solver.mechanism_limit'", "> 0"});
 }
 
 TEST_F(CaseTest, Output) {

@@ -246,6 +246,22 @@ TEST(VerifyPlastic, ThickCylinderStopsAtTheLimitLoad) {
   EXPECT_LE(p_last, 1.03 * h.limit());
 }
 
+// solver.mechanism_limit sets the displacement, as a fraction of the model's size, that stops a
+// plastic run: with 1e-4 of the 0.283 m diagonal (2.8e-5 m) the run stops at the first step
+// whose displacement exceeds it (the elastic bore displacement at 0.5 p_L is 6e-5 m).
+TEST(VerifyPlastic, MechanismLimitIsACaseKey) {
+  const Hill h;
+  TempDir dir("hill-mechanism");
+  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / 2, 2, 4, "hex"));
+  std::string yaml = cylinder_case(h, "newton", h.limit(), 1, 1);
+  yaml.replace(yaml.find("cutback: 3"), 10, "cutback: 0, mechanism_limit: 1e-4, times: [0.1, 0.5]");
+  yaml.replace(yaml.find("steps: 1, "), 10, "");
+  auto r = run_all(dir.path(), yaml);
+  EXPECT_EQ(r->result.status, AnalysisStatus::not_converged);
+  ASSERT_EQ(r->all.reports.size(), 1u);
+  EXPECT_NE(r->result.failure.find("solver.mechanism_limit"), std::string::npos) << r->result.failure;
+}
+
 // ------------------------------------------------------------------------------------------
 // 8-node hexahedra with B-bar (fem/geometry.hpp). Fully integrated, they would lock: the flow is
 // isochoric, and 8 points per cell cannot all be isochoric with a trilinear field. With B-bar
