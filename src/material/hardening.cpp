@@ -304,6 +304,13 @@ Piecewise piece(const std::vector<double>& e, const std::vector<double>& s,
                 const std::vector<double>& k) {
   return {e.data(), s.data(), k.data(), e.size()};
 }
+
+/// The walk over the mix (1 − s)·a + s·b of two plastic tables (Hardening::PlasticTable: the
+/// template only names the private type through deduction).
+template <class Table>
+Walk table_walk(const Table& a, const Table& b, double s) {
+  return Walk(piece(a.eps_p, a.stress, a.slope), piece(b.eps_p, b.stress, b.slope), s);
+}
 }  // namespace
 
 Hardening::Point Hardening::plastic(double eps_p, double T) const {
@@ -342,9 +349,7 @@ Hardening::Point Hardening::phi(double eps, double T, double three_g) const {
   switch (kind_) {
     case CurveSpec::Kind::table: {
       const Bracket br = bracket(T);
-      const PlasticTable& a = tables_[br.a];
-      const PlasticTable& b = tables_[br.b];
-      Walk w(piece(a.eps_p, a.stress, a.slope), piece(b.eps_p, b.stress, b.slope), br.s);
+      Walk w = table_walk(tables_[br.a], tables_[br.b], br.s);
       if (eps < w.h0 / three_g) return elastic;
       // ε̃ = g(ε̃^p) = ε̃^p + H(ε̃^p)/3G is linear on each segment: the first segment whose
       // end lies beyond ε̃ holds the root (taken at the start of the next segment when ε̃ is
@@ -402,9 +407,7 @@ Hardening::Point Hardening::f(double sigma, double T, double three_g) const {
   switch (kind_) {
     case CurveSpec::Kind::table: {
       const Bracket br = bracket(T);
-      const PlasticTable& a = tables_[br.a];
-      const PlasticTable& b = tables_[br.b];
-      Walk w(piece(a.eps_p, a.stress, a.slope), piece(b.eps_p, b.stress, b.slope), br.s);
+      Walk w = table_walk(tables_[br.a], tables_[br.b], br.s);
       if (sigma < w.h0) return elastic;
       // The first ε̃^p where H reaches σ̃: on a rising segment with h0 <= σ̃ <= h1 (h0 < σ̃ on
       // every segment after the first, or the previous one would have held it).
@@ -445,9 +448,7 @@ double Hardening::max_stress(double T) const {
   switch (kind_) {
     case CurveSpec::Kind::table: {
       const Bracket br = bracket(T);
-      const PlasticTable& a = tables_[br.a];
-      const PlasticTable& b = tables_[br.b];
-      Walk w(piece(a.eps_p, a.stress, a.slope), piece(b.eps_p, b.stress, b.slope), br.s);
+      Walk w = table_walk(tables_[br.a], tables_[br.b], br.s);
       double m = w.h0;
       for (; !w.last(); w.next()) m = std::max(m, w.h1);
       return m;
