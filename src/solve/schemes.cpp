@@ -115,7 +115,13 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
         const auto ph = ps.curve.phi(eps0 + xt, right);
         u.defect_sigma = ph.value - (q0 + ds);
         u.defect_eps = xt - it.x_prev;
-        new_tan = xt != 0 ? (ph.value - q0) / xt : ps.curve.phi(eps0, right).slope;
+        // The secant (Φ(ε̃ + Δε̃) − σ̃)/Δε̃ is a difference of two numbers of the size of σ̃,
+        // divided by Δε̃: for an increment at round-off level relative to ε̃ (a purely
+        // volumetric x, e.g. the thermal predictor, has ZᵀDx = 0 to round-off) it is noise of
+        // any sign and size, which makes D̃ indefinite. Its limit there is the curve's slope.
+        new_tan = std::abs(xt) > 1e-8 * std::max(std::abs(eps0), ps.curve.eps_yield_now)
+                      ? (ph.value - q0) / xt
+                      : ps.curve.phi(eps0, right).slope;
         lambda = xt - (ph.value - q0) / three_g;
       } else {  // (2.34)
         const auto fk = ps.curve.f(q0 + ds, right);
@@ -126,7 +132,10 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
         u.defect_eps = fk.value - (eps0 + it.x_prev);
         u.defect_sigma = ds - it.ds_prev;
         const double den = fk.value - eps0;
-        new_tan = ds != 0 && den != 0 ? ds / den : 1 / fk.slope;
+        // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
+        new_tan = std::abs(ds) > 1e-8 * std::max(std::abs(q0), ps.curve.yield_now) && den != 0
+                      ? ds / den
+                      : 1 / fk.slope;
         lambda = (three_g - new_tan) / three_g * xt;
       }
       u.tangent = d_tilde(k1, z, new_tan);
