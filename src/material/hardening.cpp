@@ -468,7 +468,8 @@ void Hardening::warn_outside(const std::string& material, double T_min, double T
   if (kind_ == CurveSpec::Kind::table) {
     // One table: the curve does not depend on temperature, nothing to leave.
     const double lo = tables_.front().temperature, hi = tables_.back().temperature;
-    if (tables_.size() > 1 && (T_min < lo || T_max > hi))
+    const double slack = 1e-9 * (hi - lo);  // an ulp outside is not leaving the tables
+    if (tables_.size() > 1 && (T_min < lo - slack || T_max > hi + slack))
       log.warn_once("hardening-temperature:" + material,
                     fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
                                 "leave the hardening curve's tables ({:g} .. {:g}); the table at "
@@ -495,7 +496,10 @@ void Hardening::warn_outside(const std::string& material, double T_min, double T
   }
   for (const PropertyTable* p : {&yield_, &hardening_}) {
     if (p->value.size() < 2) continue;
-    if (T_min < p->temperature.front() || T_max > p->temperature.back())
+    // An ulp outside the table (a point temperature interpolated from nodal values at its end)
+    // is not leaving it.
+    const double slack = 1e-9 * (p->temperature.back() - p->temperature.front());
+    if (T_min < p->temperature.front() - slack || T_max > p->temperature.back() + slack)
       log.warn_once("hardening-temperature:" + material + ":" + p->where.key,
                     fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
                                 "leave the table of '{}' ({:g} .. {:g}); the end values are used "
