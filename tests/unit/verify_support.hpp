@@ -31,6 +31,7 @@
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
 #include "io/results.hpp"
+#include "linalg/linear_solver.hpp"
 #include "solve/driver.hpp"
 
 namespace hencky::verify {
@@ -398,6 +399,61 @@ Physical Surface("inner") = {{out[5]}};
 )",
                      num(a), num(b), num(t), nr + 1, nt + 1, hex ? "Recombine Surface{1};" : "",
                      hex || wedge ? "Recombine;" : "");
+}
+
+
+// ------------------------------------------------------------------------------------------
+// Runs that keep every converged state (small meshes only), whatever the final status
+
+/// Keeps the report and the state of every converged step.
+struct EveryStep final : StepObserver {
+  std::vector<StepReport> reports;
+  std::vector<State> states;
+  void step_done(const StepReport& r, const State& s) override {
+    reports.push_back(r);
+    states.push_back(s);
+  }
+};
+
+/// A case run in-process with the direct solver, keeping every converged state. Unlike
+/// run_case() it does not throw when the analysis stops: `result` says how it ended.
+struct SteppedRun {
+  Log log;
+  LoadedCase loaded;
+  EveryStep all;
+  AnalysisResult result;
+  double seconds = 0;  ///< wall time of the analysis (loading excluded)
+  const Model& model() const { return *loaded.model; }
+};
+
+inline std::unique_ptr<SteppedRun> run_stepped(const fs::path& dir, const std::string& yaml,
+                                               const std::string& name = "case.yaml") {
+  write_file(dir / name, yaml);
+  auto r = std::make_unique<SteppedRun>();
+  r->log.quiet = true;
+  r->loaded = load_case(dir / name, r->log);
+  auto solver = make_linear_solver(LinearSolverKind::direct);
+  Timings timings;
+  const auto t0 = std::chrono::steady_clock::now();
+  r->result = run_analysis(*r->loaded.model, *solver, r->log, timings, r->all);
+  r->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+/// Integration-point positions of the mesh, in the order of the state's point arrays.
+inline std::vector<Vec3> point_positions(const Model& model) {
+  const Mesh& mesh = model.mesh();
+  std::vector<Vec3> out(static_cast<std::size_t>(model.n_points()));
+  Vec3 x[max_cell_nodes];
+  for (int c = 0; c < mesh.cells.size(); ++c) {
+    const auto nodes = mesh.cells.nodes(c);
+    const auto& tab = reference_table(mesh.cells.type[c]);
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    for (int q = 0; q < tab.n_points; ++q)
+      out[static_cast<std::size_t>(model.point_offset(c) + q)] =
+          point_position(tab, q, std::span<const Vec3>(x, nodes.size()));
+  }
+  return out;
 }
 
 }  // namespace hencky::verify
