@@ -4,12 +4,14 @@
     pvpython scripts/render.py RESULT.pvd|RESULT.vtu OUT.png --field von_mises
         [--component N] [--warp displacement --scale S] [--camera iso|x|y|z]
         [--title TEXT] [--units TEXT] [--size 1200x800] [--edges] [--range MIN MAX]
-        [--time T] [--colormap NAME] [--no-colorbar]
+        [--time T] [--colormap NAME] [--no-colorbar] [--crop XMIN XMAX YMIN YMAX ZMIN ZMAX]
 
 Shows the last time step (or --time T) as a surface coloured by the point or cell array
 --field (its magnitude if it has several components, unless --component N), on a white
 background with a colour bar titled with the field name (and --units). With --warp the shape
-is deformed by that point vector array (Warp By Vector, times --scale).
+is deformed by that point vector array (Warp By Vector, times --scale). With --crop only the
+cells of the (deformed) body that lie entirely inside the box are shown, and the camera frames
+them.
 
 Debian's ParaView renders through X only (--force-offscreen-rendering crashes without a
 display), so without $DISPLAY the script runs itself again under `xvfb-run` (package xvfb);
@@ -44,6 +46,9 @@ def parse_args():
     p.add_argument("--time", type=float, help="time step to show (default: the last one)")
     p.add_argument("--colormap", default="Turbo", help="ParaView colour map preset (default Turbo)")
     p.add_argument("--no-colorbar", action="store_true", help="no colour bar")
+    p.add_argument("--crop", type=float, nargs=6,
+                   metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+                   help="show only the cells entirely inside this box (coordinates of the shown shape)")
     args = p.parse_args()
     try:
         w, h = args.size.lower().split("x")
@@ -52,6 +57,8 @@ def parse_args():
             raise ValueError
     except ValueError:
         p.error("--size must be WxH, e.g. 1200x800")
+    if args.crop and any(args.crop[2 * k] >= args.crop[2 * k + 1] for k in range(3)):
+        p.error("--crop needs XMIN < XMAX, YMIN < YMAX and ZMIN < ZMAX")
     return args
 
 
@@ -188,6 +195,23 @@ def main():
         source.Vectors = ["POINTS", args.warp]
         source.ScaleFactor = args.scale
         source.UpdatePipeline(t) if t is not None else source.UpdatePipeline()
+
+    if args.crop:
+        lo, hi = args.crop[0::2], args.crop[1::2]
+        # Whole cells (those entirely inside the box), so that --edges shows the mesh.
+        crop = simple.ExtractCellsByRegion(Input=source)
+        crop.IntersectWith = "Box"
+        crop.IntersectWith.UseReferenceBounds = 0
+        crop.IntersectWith.Position = lo
+        crop.IntersectWith.Length = [h - l for l, h in zip(lo, hi)]
+        crop.ExtractionSide = "inside"
+        crop.Extractintersected = 0
+        source = crop
+        source.UpdatePipeline(t) if t is not None else source.UpdatePipeline()
+        if source.GetDataInformation().GetNumberOfCells() == 0:
+            print("error: nothing of the body lies inside --crop %s" % " ".join("%g" % v for v in args.crop),
+                  file=sys.stderr)
+            return 1
 
     found = find_array(source, args.field)
     if found is None:
