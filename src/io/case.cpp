@@ -90,13 +90,15 @@ const std::vector<std::string> conditions = {"displacement", "pressure", "tracti
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 const std::vector<std::string> solver_keys = {
     "scheme",    "curve_form", "steps",      "end",     "times", "max_iterations",
-    "tolerance", "relaxation", "correction", "cutback", "linear", "mechanism_limit"};
+    "tolerance", "relaxation", "correction", "cutback", "linear", "mechanism_limit",
+    "predictor"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
                                           "initial-strain", "initial-strain-stiffness",
                                           "initial-stress", "initial-stress-stiffness"};
 const std::vector<std::string> curve_forms = {"stress", "strain"};
+const std::vector<std::string> predictors = {"extrapolate", "none"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
 
 struct Section {
@@ -907,6 +909,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   }
   if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
   if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
+  if (auto x = m.get("predictor")) s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
     if (l == "petsc")

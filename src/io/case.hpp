@@ -125,6 +125,10 @@ struct SolverSpec {
   /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
   /// mesh's bounding box stops the run: the body has become a mechanism. > 0.
   double mechanism_limit = 0.05;
+  /// newton only (`predictor: extrapolate | none`): start a step from the last step's
+  /// displacement increment scaled to this step's length, when the new load does positive work
+  /// on it; otherwise (and for the other schemes) from the converged state.
+  bool extrapolate = true;
   Linear linear = Linear::direct;  ///< petsc is rejected in this version
 };
 

@@ -85,9 +85,6 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
     u.d_lambda = rr.d_lambda;
     u.plastic = rr.plastic;
     u.tangent = rr.tangent;
-    // First iterate of a load-controlled step: a point that was flowing sits on the surface and
-    // its trial is elastic; the continuum tangent D̃(β*_0) (Φ' at t) predicts better than D.
-    if (it.k == 0 && !rr.plastic && ps.flowing) u.tangent = d_tilde(k1, ps.z, ps.tan0);
     u.eps_ep = ps.curve.eps_p + rr.d_lambda + q / three_g;
     if (u.plastic || it.plastic_prev) {
       u.defect_sigma = (q - q0) - it.ds_prev;

@@ -134,6 +134,7 @@ solver:
   cutback: 2
   linear: iterative
   mechanism_limit: 0.2
+  predictor: none
 output:
   dir: results
   every: 2
@@ -218,6 +219,7 @@ output:
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.8);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.2);
+  EXPECT_FALSE(c.solver.extrapolate);
   EXPECT_DOUBLE_EQ(c.solver.correction, 0);
   EXPECT_EQ(c.solver.cutback, 2);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::iterative);
@@ -253,6 +255,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_DOUBLE_EQ(c.solver.correction, 1.0);
   EXPECT_EQ(c.solver.cutback, 4);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
+  EXPECT_TRUE(c.solver.extrapolate);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::direct);
   EXPECT_EQ(c.output.dir, dir_ / "case.out");
   EXPECT_EQ(c.output.every, 1);
@@ -756,6 +759,8 @@ TEST_F(CaseTest, SolverChoices) {
   expect_error(base + "solver:\n  relaxation: 0\n", {"'solver.relaxation'", "> 0"});
   expect_error(base + "solver:\n  cutback: -1\n", {"'solver.cutback'", ">= 0"});
   expect_error(base + "solver:\n  mechanism_limit: 0\n", {"'solver.mechanism_limit'", "> 0"});
+  expect_error(base + "solver:\n  predictor: extrapolated\n",
+               {"'solver.predictor'", "did you mean 'extrapolate'?"});
 }
 
 TEST_F(CaseTest, Output) {

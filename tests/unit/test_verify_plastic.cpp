@@ -249,6 +249,52 @@ TEST(VerifyPlastic, ThickCylinderStopsAtTheLimitLoad) {
   EXPECT_LE(p_last, 1.03 * h.limit());
 }
 
+// newton's predictor (solver.predictor). Loading the cylinder to 0.9 p_L in nine steps and
+// unloading it to zero in one: both predictors solve the same discrete equations, so they agree
+// to what the iterations leave (tolerance 1e-8; the elastic annulus keeps the problem well
+// conditioned below the limit load); `extrapolate` needs fewer iterations on the way up, and at
+// the reversal, where the load does negative work on the last increment, it starts from the
+// converged state like `none`: the unloading is elastic (0.9 p_L < twice the first-yield
+// pressure) and takes one iteration with either.
+TEST(VerifyPlastic, NewtonPredictorExtrapolatesOnTheWayUpAndNotAtAReversal) {
+  const Hill h;
+  TempDir dir("hill-predictor");
+  const int nr = 4;
+  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  const double p_peak = 0.9 * h.limit();
+  ASSERT_LT(p_peak, 2 * h.k() * (1 - h.a * h.a / (h.b * h.b)));  // no reversed yielding
+  std::unique_ptr<FullRun> runs[2];
+  for (int k = 0; k < 2; ++k) {
+    std::string yaml = cylinder_case(h, "newton", p_peak, 1);
+    yaml.replace(yaml.find("\"" + num(p_peak) + "*t\""), num(p_peak).size() + 4,
+                 "\"" + num(p_peak) + "*(t <= 1 ? t : 2 - t)\"");
+    yaml.replace(yaml.find("steps: 1"), 8,
+                 std::string("times: [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0, 2.0], predictor: ") +
+                     (k == 0 ? "extrapolate" : "none"));
+    runs[k] = run_all(dir.path(), yaml);
+    ASSERT_EQ(runs[k]->result.status, AnalysisStatus::converged) << runs[k]->result.failure;
+    ASSERT_EQ(runs[k]->all.reports.size(), 9u) << "no cut-back";
+  }
+  const auto& up = runs[0]->all;
+  const auto& plain = runs[1]->all;
+  int it_up = 0, it_plain = 0;
+  for (std::size_t s = 0; s < 8; ++s) {
+    it_up += up.reports[s].iterations;
+    it_plain += plain.reports[s].iterations;
+    double du = 0, u = 0;
+    for (std::size_t i = 0; i < up.states[s].u.size(); ++i) {
+      du = std::max(du, std::abs(up.states[s].u[i] - plain.states[s].u[i]));
+      u = std::max(u, std::abs(plain.states[s].u[i]));
+    }
+    EXPECT_LT(du, 1e-6 * u) << "t = " << up.reports[s].time;
+  }
+  report(fmt::format("predictor: loading iterations extrapolate {} none {}; unloading {} / {}",
+                     it_up, it_plain, up.reports[8].iterations, plain.reports[8].iterations));
+  EXPECT_LT(it_up, it_plain);
+  EXPECT_EQ(up.reports[8].iterations, 1);
+  EXPECT_EQ(plain.reports[8].iterations, 1);
+}
+
 // solver.mechanism_limit sets the displacement, as a fraction of the model's size, that stops a
 // plastic run: with 1e-4 of the 0.283 m diagonal (2.8e-5 m) the run stops at the first step
 // whose displacement exceeds it (the elastic bore displacement at 0.5 p_L is 6e-5 m).
