@@ -89,8 +89,9 @@ Mesh.MeshSizeMax = h;
 """
 
 
-def geo_cylinder(h: float) -> str:
-    c = CYL
+def geo_cylinder(h: float, c: dict = CYL) -> str:
+    """Quarter ring a < r < b, axial length Lz (the keys of CYL; the plastic benchmark passes
+    its own)."""
     return f"""// hencky benchmark: quarter thick cylinder a={c['a']} b={c['b']} length {c['Lz']}, element size h
 a = {c['a']}; b = {c['b']}; Lz = {c['Lz']}; h = {h!r};
 Point(1) = {{0, 0, 0, h}};
@@ -279,28 +280,69 @@ def check_tet10_order(coords: np.ndarray, tets_ccx: np.ndarray) -> float:
     return worst
 
 
-def write_ccx_inp(problem: str, mesh: dict, inp: Path) -> dict:
-    coords, tets = mesh["coords"], mesh["tets"]
-    tets_ccx = tets[:, GMSH_TO_CCX_TET10]
-    order_error = check_tet10_order(coords, tets_ccx)
+def ccx_nset(name: str, nodes) -> str:
+    nodes = np.unique(nodes).tolist()
+    body = "".join(",".join(map(str, nodes[k:k + 16])) + "\n" for k in range(0, len(nodes), 16))
+    return f"*NSET, NSET={name}\n{body}"
+
+
+def ccx_tets(mesh: dict) -> tuple[np.ndarray, float]:
+    """The mesh's tetrahedra in CalculiX's node order, with the mid-edge node check."""
+    tets_ccx = mesh["tets"][:, GMSH_TO_CCX_TET10]
+    order_error = check_tet10_order(mesh["coords"], tets_ccx)
     if order_error > 1e-3:
         raise SystemExit(f"tet10 node permutation looks wrong (mid-node offset {order_error:.2e})")
-    used = mesh["node_tags"]
-    px = np.array(PROBLEMS[problem]["probe"])
-    probe = int(used[np.argmin(np.linalg.norm(coords[used] - px, axis=1))])
-    probe_dist = float(np.linalg.norm(coords[probe] - px))
-    out = [f"*HEADING\nhencky benchmark: {problem}, {len(tets)} C3D10, {len(used)} nodes\n"]
-    out.append("*NODE, NSET=NALL\n")
+    return tets_ccx, order_error
+
+
+def nearest_node(mesh: dict, point) -> tuple[int, float]:
+    """The used mesh node nearest to `point` and its distance."""
+    coords, used = mesh["coords"], mesh["node_tags"]
+    px = np.array(point, dtype=float)
+    node = int(used[np.argmin(np.linalg.norm(coords[used] - px, axis=1))])
+    return node, float(np.linalg.norm(coords[node] - px))
+
+
+def ccx_mesh_cards(mesh: dict, tets_ccx: np.ndarray) -> list[str]:
+    """*NODE (NALL) and *ELEMENT (C3D10, EALL) cards."""
+    coords, used = mesh["coords"], mesh["node_tags"]
+    out = ["*NODE, NSET=NALL\n"]
     xyz = coords[used]
     out.append("".join(f"{t},{x:.17g},{y:.17g},{z:.17g}\n" for t, (x, y, z) in zip(used.tolist(), xyz.tolist())))
     out.append("*ELEMENT, TYPE=C3D10, ELSET=EALL\n")
     out.append("".join(f"{e + 1}," + ",".join(map(str, row)) + "\n" for e, row in enumerate(tets_ccx.tolist())))
+    return out
 
-    def nset(name, nodes):
-        nodes = np.unique(nodes).tolist()
-        body = "".join(",".join(map(str, nodes[k:k + 16])) + "\n" for k in range(0, len(nodes), 16))
-        return f"*NSET, NSET={name}\n{body}"
 
+def ccx_face_pressure(coords: np.ndarray, tets_ccx: np.ndarray, tris: np.ndarray, value: float,
+                      what: str = "bore") -> str:
+    """*DLOAD lines (element, face label Pn, pressure) for the element faces that lie on the
+    6-node triangles `tris` (one face per triangle)."""
+    tri = np.sort(tris[:, :3], axis=1)
+    big = np.int64(coords.shape[0] + 1)
+    key = lambda a: (a[:, 0] * big + a[:, 1]) * big + a[:, 2]
+    bore_keys = np.sort(key(tri))
+    lines = []
+    found = 0
+    for f, (p, q, r) in enumerate(CCX_TET_FACES):
+        fk = key(np.sort(tets_ccx[:, [p, q, r]], axis=1))
+        pos = np.clip(np.searchsorted(bore_keys, fk), 0, len(bore_keys) - 1)
+        hit = np.nonzero(bore_keys[pos] == fk)[0]
+        found += len(hit)
+        lines += [f"{e + 1},P{f + 1},{value:.17g}\n" for e in hit.tolist()]
+    if found != len(tri):
+        raise SystemExit(f"{what}: {found} element faces found for {len(tri)} triangles")
+    return "*DLOAD\n" + "".join(lines)
+
+
+def write_ccx_inp(problem: str, mesh: dict, inp: Path) -> dict:
+    coords, tets = mesh["coords"], mesh["tets"]
+    tets_ccx, order_error = ccx_tets(mesh)
+    used = mesh["node_tags"]
+    probe, probe_dist = nearest_node(mesh, PROBLEMS[problem]["probe"])
+    out = [f"*HEADING\nhencky benchmark: {problem}, {len(tets)} C3D10, {len(used)} nodes\n"]
+    out += ccx_mesh_cards(mesh, tets_ccx)
+    nset = ccx_nset
     out.append(nset("PROBE", [probe]))
     out.append(f"*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.17g},{NU:.17g}\n")
     out.append("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n")
@@ -325,21 +367,7 @@ def write_ccx_inp(problem: str, mesh: dict, inp: Path) -> dict:
             out.append(nset(name.upper(), surf[name]))
         bcs = "*BOUNDARY\nSYM_X,1,1\nSYM_Y,2,2\nBOTTOM,3,3\nTOP,3,3\n"
         # Pressure on the bore: *DLOAD on the element faces that lie on it.
-        tri = np.sort(surf["bore"][:, :3], axis=1)
-        big = np.int64(coords.shape[0] + 1)
-        key = lambda a: (a[:, 0] * big + a[:, 1]) * big + a[:, 2]
-        bore_keys = np.sort(key(tri))
-        lines = []
-        found = 0
-        for f, (p, q, r) in enumerate(CCX_TET_FACES):
-            fk = key(np.sort(tets_ccx[:, [p, q, r]], axis=1))
-            pos = np.clip(np.searchsorted(bore_keys, fk), 0, len(bore_keys) - 1)
-            hit = np.nonzero(bore_keys[pos] == fk)[0]
-            found += len(hit)
-            lines += [f"{e + 1},P{f + 1},{CYL['p']:.17g}\n" for e in hit.tolist()]
-        if found != len(tri):
-            raise SystemExit(f"bore: {found} element faces found for {len(tri)} triangles")
-        loads.append("*DLOAD\n" + "".join(lines))
+        loads.append(ccx_face_pressure(coords, tets_ccx, surf["bore"], CYL["p"]))
     out.append("*STEP\n*STATIC\n")
     out.append(bcs)
     out += loads
@@ -403,16 +431,33 @@ def timed(cmd, cwd, env=None, log=None) -> dict:
                 lines=stamped)
 
 
-def run_hencky(exe: Path, case: Path, out: Path, threads: int, env=None) -> dict:
+def with_timeout(cmd: list, timeout: float | None) -> list:
+    """`cmd` run under coreutils' timeout (SIGTERM after `timeout` s, SIGKILL 30 s later; exit
+    status 124 or 137 then). Under /usr/bin/time -v the peak memory is still the program's."""
+    if not timeout:
+        return cmd
+    return ["timeout", "--kill-after=30", f"{timeout:g}"] + cmd
+
+
+TIMEOUT_EXIT = (124, 137)
+
+
+def run_hencky(exe: Path, case: Path, out: Path, threads: int, env=None, timeout: float | None = None,
+               check: bool = True) -> dict:
+    """hencky run under /usr/bin/time -v; r["summary"] is summary.json (None when the run wrote
+    none: killed by the timeout, crashed). check: raise unless hencky converged (exit 0)."""
     if out.exists():
         shutil.rmtree(out)
     log = case.parent / f"{case.stem}.hencky.log"
-    r = timed([exe, "run", case, "-o", out, "--threads", threads, "--quiet"], case.parent, env=env, log=log)
+    r = timed(with_timeout([exe, "run", case, "-o", out, "--threads", threads, "--quiet"], timeout),
+              case.parent, env=env, log=log)
     del r["lines"]
-    if r["rc"] != 0:
+    if r["rc"] != 0 and check:
         raise SystemExit(f"hencky failed (exit {r['rc']}), see {log}")
-    s = json.loads((out / "summary.json").read_text())
-    r["summary"] = s
+    r["timed_out"] = bool(timeout) and r["rc"] in TIMEOUT_EXIT
+    r["log"] = str(log)
+    summary = out / "summary.json"
+    r["summary"] = json.loads(summary.read_text()) if summary.exists() else None
     return r
 
 
@@ -449,7 +494,10 @@ def ccx_phases(lines, wall) -> dict:
                 stress_output=wall - t_str)
 
 
-def run_ccx(job_dir: Path, job: str, threads: int) -> dict:
+def run_ccx(job_dir: Path, job: str, threads: int, timeout: float | None = None, check: bool = True) -> dict:
+    """ccx under /usr/bin/time -v; r["text"] is its output. check: raise when it fails (exit
+    status, *ERROR); otherwise r["ok"] says whether it ran to the end and r["errors"] holds its
+    *ERROR lines."""
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), CCX_NPROC_EQUATION_SOLVER=str(threads),
                CCX_NPROC_STIFFNESS=str(threads), CCX_NPROC_RESULTS=str(threads),
                GFORTRAN_UNBUFFERED_PRECONNECTED="y")
@@ -459,10 +507,16 @@ def run_ccx(job_dir: Path, job: str, threads: int) -> dict:
     cmd = ["ccx", "-i", job]
     if shutil.which("stdbuf"):
         cmd = ["stdbuf", "-oL", "-eL"] + cmd
-    r = timed(cmd, job_dir, env=env, log=log)
+    r = timed(with_timeout(cmd, timeout), job_dir, env=env, log=log)
     text = "\n".join(l for _, l in r["lines"])
-    if r["rc"] != 0 or "*ERROR" in text:
-        raise SystemExit(f"ccx failed (exit {r['rc']}), see {log}")
+    r["ok"] = r["rc"] == 0 and "*ERROR" not in text
+    r["timed_out"] = bool(timeout) and r["rc"] in TIMEOUT_EXIT
+    r["log"] = str(log)
+    r["text"] = text
+    if not r["ok"]:
+        if check:
+            raise SystemExit(f"ccx failed (exit {r['rc']}), see {log}")
+        r["errors"] = [l.strip() for l in text.splitlines() if "*ERROR" in l][:5]
     m = re.findall(r"Using up to (\d+) cpu\(s\) for ([^.\n]+)", text)
     r["cpus"] = {what.strip(): int(n) for n, what in m}
     m = re.search(r"Total CalculiX Time:\s*([\d.Ee+-]+)", text)
