@@ -205,11 +205,14 @@ class StepSolver {
   /// state (`trial`, already evaluated: `r2` is its squared residual norm). When the last step
   /// moved the free nodes by Δu_n and the new step's out-of-balance force does positive work on
   /// Δu_n (the load keeps its direction: not a reversal), the start moves on to
-  /// u(t) + (Δt/Δt_n)·Δu_n, the linear extrapolation of the path, and is kept if its residual
-  /// is smaller. On a proportional path that leaves a residual of second order in Δt and puts
-  /// the first iterate's plastic zone and tangent close to the answer, which saves the
-  /// iterations that otherwise go to finding them (Abaqus extrapolates the same way by
-  /// default). Returns the squared residual of the start kept; rhs_ and the points hold it.
+  /// u(t) + (Δt/Δt_n)·Δu_n, the linear extrapolation of the path (Abaqus/Standard starts its
+  /// increments the same way by default). Its residual is not always smaller than that of u(t):
+  /// where the plastic zone grows, the points it reaches carry their overshoot of the yield
+  /// stress as out-of-balance force, but the zone and the tangents of the first iterate are
+  /// close to the converged ones, which is what saves iterations (measured on the bench
+  /// cylinder: 4 iterations per plastic step instead of 5-6, even where the residual norm of the
+  /// extrapolated start was the larger). Returns the squared residual of the start kept; rhs_
+  /// and the points hold it.
   double extrapolated_start(const State& c, State& trial, double r2) {
     const auto& dofs = m_.dofs();
     const double dt = trial.time - c.time;
@@ -218,32 +221,27 @@ class StepSolver {
       return r2;
     double work = 0;
     for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
-    if (!(work > 0)) return r2;
+    if (!(work > 0)) {
+      log_.detail("  predictor: the load reverses (no work on the last increment); no extrapolation");
+      return r2;
+    }
     const double scale = dt / last_dt_;
-    // The plain start, to come back to.
-    plain_u_ = trial.u;
-    plain_rhs_ = rhs_;
-    const bool plain_changed = tangent_changed_;
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
     restart_point_iterations();
+    const bool plain_changed = tangent_changed_;
     update_points(c, trial);
+    tangent_changed_ = tangent_changed_ || plain_changed;
     double r2x = 0;
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (int k = dofs.eq[i]; k >= 0) {
         rhs_[k] = target_[i] - trial.f_int[i];
         r2x += rhs_[k] * rhs_[k];
       }
-    if (r2x < r2) {
-      tangent_changed_ = tangent_changed_ || plain_changed;
-      return r2x;
-    }
-    trial.u = plain_u_;  // no better than the plain start: back to it
-    restart_point_iterations();
-    update_points(c, trial);
-    tangent_changed_ = true;
-    rhs_ = plain_rhs_;
-    return r2;
+    log_.detail("  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
+                "(from the converged state {:.3e})",
+                scale, std::sqrt(r2x), std::sqrt(r2));
+    return r2x;
   }
 
   /// newton's point iterations as begin_point_step leaves them: the start evaluated next is the
@@ -538,7 +536,7 @@ class StepSolver {
   bool failed_in_linear_solver_ = false;
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
   // newton's predictor: the last converged increment of the free unknowns and its Δt
-  std::vector<double> last_du_, plain_u_, plain_rhs_;
+  std::vector<double> last_du_;
   double last_dt_ = 0;
 };
 
