@@ -28,6 +28,8 @@ class Log {
     emit("warning: " + text, true);
   }
   const std::vector<std::string>& warnings() const { return warnings_; }
+  /// Every line so far, details included (what the log file holds).
+  const std::vector<std::string>& lines() const { return lines_; }
 
   /// From now on every line also goes to this file (earlier lines are written first).
   void attach_file(const std::string& path) {
