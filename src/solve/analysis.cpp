@@ -187,7 +187,7 @@ class StepSolver {
       const bool refactor =
           !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
           (tangent_changed_ &&
-           (options_.matrix_per_iteration() || (options_.matrix_per_step() && iterations == 0)));
+           (options_.matrix_per_iteration() || (options_.matrix_per_step() && iterations <= 1)));
       if (refactor) assemble_and_factorize(trial);
       auto t0 = Clock::now();
       failed_in_linear_solver_ = true;

@@ -44,14 +44,20 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
   ps.tan0 = three_g;  // a point elastic at t starts on the elastic line
   if (ps.flowing) {
     ps.z = flow_direction(sigma0);  // (2.10)
-    const double q0 = ps.z.dot(sigma0);
+    // A point that flowed sits on its yield surface H(ε̃^p) up to round-off: σ̃(t) an ulp below
+    // it is still on the curve, and its start slope is the curve's (loading side), not the
+    // elastic 3G that Φ gives an ulp below. (When the temperature of t+Δt raises the yield
+    // stress above σ̃(t) by more than round-off, the point is inside the elastic range: 3G.)
+    double q0 = ps.z.dot(sigma0);
+    if (q0 < ps.curve.yield_now && q0 >= ps.curve.yield_now * (1 - 1e-12)) q0 = ps.curve.yield_now;
     if (s.uses_strain_form()) {
       // tan β*_0 = 1 / F'(σ̃(t)), (2.34), (2.40); 0 where F is flat-ended (perfect plasticity).
       const double df = ps.curve.f(q0, true).slope;
       ps.tan0 = std::isfinite(df) && df > 0 ? 1 / df : 0.0;
     } else {
       // tan β*_0 = Φ'(ε̃(t)), (2.33), (2.46)
-      ps.tan0 = ps.curve.phi(eps_p0 + q0 / three_g, true).slope;
+      const double e0 = eps_p0 + q0 / three_g;
+      ps.tan0 = ps.curve.phi(std::max(e0, q0 == ps.curve.yield_now ? ps.curve.eps_yield_now : e0), true).slope;
     }
   }
   it = PointIteration{};
@@ -65,8 +71,31 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
       it.tan_beta = three_g;  // β* = β^e; Δσ^0_0 = 0 means β**_0 = β*
   }
   it.plastic_prev = false;
+  it.tan_start = ps.tan0;
   return ps;
 }
+
+namespace {
+
+/// The `-stiffness` schemes (2.38)-(2.40), (2.44)-(2.46) fix tan β* at "the slope at the start of
+/// the step", which for a point that was flowing depends on the direction the step takes: the
+/// curve's loading slope if it keeps flowing, the elastic line 3G if it unloads (elastic
+/// unloading). The report leaves the choice open; the loading slope is taken at the start, and
+/// once the first iterates (the predictor, and the first solve: the matrix may then be refactored
+/// once more) show the point unloading, 3G. With the loading slope kept, the fixed-matrix
+/// iteration at an unloading point multiplies its error by 1 − 3G/tan β*_0 and diverges.
+/// `xt` is the iterate's Δε̃^{e+p}; `eps0` ε̃^{e+p}(t). A decrease at round-off level (a purely
+/// volumetric predictor has ZᵀDx = 0 to round-off) is not unloading.
+/// Returns true when it switched.
+bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, double xt, double eps0) {
+  if (!ps.flowing || !ps.curve.elastic_unloading || it.k > 1 || it.tan_start == ps.curve.three_g ||
+      !(xt < -1e-8 * std::max(std::abs(eps0), ps.curve.eps_yield_now)))
+    return false;
+  it.tan_start = ps.curve.three_g;
+  return true;
+}
+
+}  // namespace
 
 PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
                            const PointStep& ps, PointIteration& it, const Voigt& sigma0,
@@ -140,7 +169,7 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
 
     case SchemeKind::initial_strain:             // (2.35)-(2.37)
     case SchemeKind::initial_strain_stiffness: {  // (2.38)-(2.40)
-      const double tb = s.kind == SchemeKind::initial_strain ? three_g : ps.tan0;
+      const double tb = s.kind == SchemeKind::initial_strain ? three_g : it.tan_start;
       ds = tb * (xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
       const auto fk = ps.curve.f(q0 + ds, right);
       if (!std::isfinite(fk.value)) {
@@ -152,13 +181,19 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
       lambda0 = it.lambda0 + s.omega * u.defect_eps;  // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z
       // Δε^p = Ỹ(x − Zλ0) + Zλ0, (2.25): along Z, Ỹ contributes (3G − tanβ*)/3G of it.
       lambda = lambda0 + (three_g - tb) / three_g * (xt - lambda0);
-      if (s.kind == SchemeKind::initial_strain_stiffness) u.tangent = d_tilde(k1, z, tb);
+      if (s.kind == SchemeKind::initial_strain_stiffness) {
+        // The initial strain gathered so far corrected the loading matrix; with the elastic one
+        // an elastic unloading needs none (left in place it would only decay by 1 − ω per
+        // iteration).
+        if (start_slope_on_unloading(ps, it, xt, eps0)) lambda0 = 0;
+        u.tangent = d_tilde(k1, z, it.tan_start);
+      }
       break;
     }
 
     case SchemeKind::initial_stress:              // (2.41)-(2.43)
     case SchemeKind::initial_stress_stiffness: {  // (2.44)-(2.46)
-      const double tb = s.kind == SchemeKind::initial_stress ? three_g : ps.tan0;
+      const double tb = s.kind == SchemeKind::initial_stress ? three_g : it.tan_start;
       // Δσ̃_k of the solve with D̃(β*) and Δσ^0_k = (D̃(β**_k) − D̃(β*))x_{k−1}
       ds = tb * xt + (it.tan_beta - tb) * it.x_prev;
       const auto ph = ps.curve.phi(eps0 + xt, right);
@@ -166,7 +201,10 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
       u.defect_eps = xt - it.x_prev;
       new_tan = xt != 0 ? (ph.value - q0) / xt : ps.curve.phi(eps0, right).slope;  // β**_{k+1}
       lambda = xt - (ph.value - q0) / three_g;  // σ_k = D̃(β**_{k+1})x: on the curve along Z
-      if (s.kind == SchemeKind::initial_stress_stiffness) u.tangent = d_tilde(k1, z, tb);
+      if (s.kind == SchemeKind::initial_stress_stiffness) {
+        start_slope_on_unloading(ps, it, xt, eps0);
+        u.tangent = d_tilde(k1, z, it.tan_start);
+      }
       break;
     }
     case SchemeKind::newton:

@@ -50,7 +50,8 @@ struct SchemeOptions {
   bool matrix_per_iteration() const {
     return kind == SchemeKind::newton || kind == SchemeKind::variable_stiffness;
   }
-  /// The matrix is the start-of-step tangent: one factorization per step.
+  /// The matrix is the start-of-step tangent: one factorization per step (a second one at the
+  /// first iteration when flowing points turn out to unload, see tan_start).
   bool matrix_per_step() const {
     return kind == SchemeKind::initial_strain_stiffness ||
            kind == SchemeKind::initial_stress_stiffness;
@@ -77,6 +78,11 @@ struct PointIteration {
   double x_prev = 0;    ///< Δε̃^{e+p}_{k−1}
   double ds_prev = 0;   ///< Δσ̃_{k−1}
   bool plastic_prev = false;
+  /// The `-stiffness` schemes' matrix slope tan β*_0: the curve's loading slope at the start of
+  /// the step, or 3G once the first iterate shows that a flowing point unloads (elastic
+  /// unloading): the loading tangent is far softer than that response and the fixed-matrix
+  /// iteration would diverge (its factor at the point is 1 − 3G/tan β*_0).
+  double tan_start = 0;
   int k = 0;            ///< iterations evaluated in this step
 };
 
