@@ -11,32 +11,9 @@ namespace hencky::verify {
 namespace {
 
 /// Runs a case in-process keeping every converged state (small meshes only).
-struct AllStates final : StepObserver {
-  std::vector<StepReport> reports;
-  std::vector<State> states;
-  void step_done(const StepReport& r, const State& s) override {
-    reports.push_back(r);
-    states.push_back(s);
-  }
-};
-
-struct FullRun {
-  Log log;
-  LoadedCase loaded;
-  AllStates all;
-  AnalysisResult result;
-  const Model& model() const { return *loaded.model; }
-};
-
+using FullRun = SteppedRun;
 std::unique_ptr<FullRun> run_all(const fs::path& dir, const std::string& yaml) {
-  write_file(dir / "case.yaml", yaml);
-  auto r = std::make_unique<FullRun>();
-  r->log.quiet = true;
-  r->loaded = load_case(dir / "case.yaml", r->log);
-  auto solver = make_linear_solver(LinearSolverKind::direct);
-  Timings timings;
-  r->result = run_analysis(*r->loaded.model, *solver, r->log, timings, r->all);
-  return r;
+  return run_stepped(dir, yaml);
 }
 
 const std::vector<std::string> all_schemes = {
