@@ -129,6 +129,9 @@ struct SolverSpec {
   /// displacement increment scaled to this step's length, when the new load does positive work
   /// on it; otherwise (and for the other schemes) from the converged state.
   bool extrapolate = true;
+  /// `acceleration: anderson` (initial-stress and initial-stress-stiffness only): Anderson
+  /// mixing of the fixed-matrix iterations, depth 5 (src/solve/anderson.hpp).
+  bool anderson = false;
   Linear linear = Linear::direct;  ///< petsc is rejected in this version
 };
 

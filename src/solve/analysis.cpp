@@ -9,6 +9,7 @@
 
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
+#include "solve/anderson.hpp"
 #include "solve/schemes.hpp"
 
 namespace hencky {
@@ -141,7 +142,8 @@ class StepSolver {
     // after the predictor, and the predictor's residual (which carries thermal and prescribed-
     // displacement loading). A step whose answer has no load and no stress (free expansion,
     // unloading to zero) still has a scale, so round-off is recognised as convergence.
-    double f_norm = 0;
+    double f_norm = 0, previous_residual = INFINITY;
+    anderson_.reset();
     for (iterations = 0;; ++iterations) {
       update_points(c, trial);
       for (int i = 0; i < dofs.n_dofs(); ++i)
@@ -194,6 +196,16 @@ class StepSolver {
       solver_.solve(rhs, delta_);
       failed_in_linear_solver_ = false;
       timings_.solve += seconds_since(t0);
+      if (spec.anderson) {
+        // A new matrix is a new fixed-point map, and a step that doubled the residual left the
+        // region where the history describes it: start the history again from here.
+        if (refactor || residual > 2 * previous_residual) anderson_.reset();
+        previous_residual = residual;
+        free_u_.resize(dofs.n_free);
+        for (int i = 0; i < dofs.n_dofs(); ++i)
+          if (int k = dofs.eq[i]; k >= 0) free_u_[k] = trial.u[i];
+        anderson_.accelerate(free_u_, delta_);
+      }
       for (int i = 0; i < dofs.n_dofs(); ++i)
         if (int k = dofs.eq[i]; k >= 0) trial.u[i] += delta_[k];
     }
@@ -537,6 +549,9 @@ class StepSolver {
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
   // newton's predictor: the last converged increment of the free unknowns and its Δt
   std::vector<double> last_du_;
+  // solver.acceleration: anderson
+  Anderson anderson_{5};
+  std::vector<double> free_u_;
   double last_dt_ = 0;
 };
 

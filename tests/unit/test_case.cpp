@@ -256,6 +256,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_EQ(c.solver.cutback, 4);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
   EXPECT_TRUE(c.solver.extrapolate);
+  EXPECT_FALSE(c.solver.anderson);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::direct);
   EXPECT_EQ(c.output.dir, dir_ / "case.out");
   EXPECT_EQ(c.output.every, 1);
@@ -761,6 +762,10 @@ TEST_F(CaseTest, SolverChoices) {
   expect_error(base + "solver:\n  mechanism_limit: 0\n", {"'solver.mechanism_limit'", "> 0"});
   expect_error(base + "solver:\n  predictor: extrapolated\n",
                {"'solver.predictor'", "did you mean 'extrapolate'?"});
+  expect_error(base + "solver:\n  acceleration: andersen\n",
+               {"'solver.acceleration'", "did you mean 'anderson'?"});
+  expect_error(base + "solver:\n  acceleration: anderson\n",
+               {"'solver.acceleration'", "initial-stress-stiffness", "not to 'newton'"});
 }
 
 TEST_F(CaseTest, Output) {
