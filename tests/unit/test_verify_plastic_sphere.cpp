@@ -207,8 +207,10 @@ TEST(VerifyPlasticSphere, ThickSphereAgainstHillUpTo95PercentOfTheLimit) {
   std::vector<double> fractions = {0.4,  0.45, 0.5,  0.55, 0.6,   0.65, 0.7,
                                    0.75, 0.8,  0.85, 0.9,  0.925, 0.95};
   std::string times = "times: [";
-  for (std::size_t i = 0; i < fractions.size(); ++i)
-    times += (i ? ", " : "") + num(fractions[i] / 0.95);
+  for (std::size_t i = 0; i < fractions.size(); ++i) {
+    times += i ? ", " : "";
+    times += num(fractions[i] / 0.95);
+  }
   times += "]";
   auto r = run_stepped(dir.path(), sphere_case(h, p_end, times));
   ASSERT_EQ(r->result.status, AnalysisStatus::converged) << r->result.failure;

@@ -59,8 +59,10 @@ struct Table {
     if (T.size() == 1) return num(v.front());
     std::string t = "{temperature: [", w = "], value: [";
     for (std::size_t i = 0; i < T.size(); ++i) {
-      t += (i ? ", " : "") + num(T[i]);
-      w += (i ? ", " : "") + num(v[i]);
+      t += i ? ", " : "";
+      t += num(T[i]);
+      w += i ? ", " : "";
+      w += num(v[i]);
     }
     return t + w + "]}";
   }
