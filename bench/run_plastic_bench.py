@@ -74,6 +74,8 @@ SY = 240e6  # yield stress, Pa
 A_IN, B_OUT = rb.CYL["a"], rb.CYL["b"]
 SCHEMES = ["newton", "variable-stiffness", "initial-strain", "initial-strain-stiffness",
            "initial-stress", "initial-stress-stiffness"]
+# A scheme name with "+anderson" runs that scheme with `solver.acceleration: anderson`.
+ACCELERATED = ["initial-stress+anderson", "initial-stress-stiffness+anderson"]
 
 
 def limit_pressure(sy: float = SY, a: float = A_IN, b: float = B_OUT) -> float:
@@ -237,6 +239,7 @@ def material_yaml(variant: dict) -> str:
 
 
 def hencky_case(msh: Path, scheme: str, variant: dict, args) -> str:
+    scheme, _, accel = scheme.partition("+")
     solver = [f"scheme: {scheme}", f"steps: {args.steps}", "end: 1.0",
               f"tolerance: {args.tolerance!r}", f"max_iterations: {args.max_iterations}",
               f"cutback: {args.cutback}", f"linear: {args.linear}"]
@@ -244,7 +247,9 @@ def hencky_case(msh: Path, scheme: str, variant: dict, args) -> str:
         solver.append(f"relaxation: {args.relaxation!r}")
     elif scheme == "initial-strain-stiffness":
         solver.append(f"relaxation: {args.relaxation_stiffness!r}")
-    return f"""title: plastic bench {scheme} {variant['name']} {msh.stem}
+    if accel:
+        solver.append(f"acceleration: {accel}")
+    return f"""title: plastic bench {scheme}{'+' + accel if accel else ''} {variant['name']} {msh.stem}
 mesh: {{file: {msh.name}}}
 materials:
   - name: steel
@@ -631,8 +636,8 @@ def main():
     ap.add_argument("--sizes", default="20000,100000,500000",
                     help="target unknowns, comma separated (default 20000,100000,500000); those above --max-dofs are skipped")
     ap.add_argument("--max-dofs", type=float, default=550000, help="skip target sizes above this (default 550000)")
-    ap.add_argument("--schemes", default=",".join(SCHEMES),
-                    help="hencky schemes on the perfectly plastic material (default: all six)")
+    ap.add_argument("--schemes", default=",".join(SCHEMES + ACCELERATED),
+                    help="hencky schemes on the perfectly plastic material (default: all six, and initial-stress(-stiffness) with +anderson)")
     ap.add_argument("--hardening", type=float, default=E / 100,
                     help="linear hardening modulus H (Pa) of the variant for the strain-form schemes (default E/100; 0: no variant)")
     ap.add_argument("--hardening-schemes", default="newton,initial-strain,initial-strain-stiffness",
@@ -673,8 +678,8 @@ def main():
     args.schemes = [s for s in args.schemes.split(",") if s]
     args.hardening_schemes = [s for s in args.hardening_schemes.split(",") if s]
     for s in args.schemes + args.hardening_schemes:
-        if s not in SCHEMES:
-            raise SystemExit(f"unknown scheme {s!r}; the schemes are {', '.join(SCHEMES)}")
+        if s not in SCHEMES + ACCELERATED:
+            raise SystemExit(f"unknown scheme {s!r}; the schemes are {', '.join(SCHEMES + ACCELERATED)}")
     if args.ccx_timeout is None:
         args.ccx_timeout = args.timeout
     args.timeout = args.timeout or None
