@@ -654,7 +654,7 @@ def main():
     ap.add_argument("--steps", type=int, default=20, help="load increments (default 20)")
     ap.add_argument("--tolerance", type=float, default=1e-6, help="hencky solver.tolerance (default 1e-6, the case default)")
     ap.add_argument("--max-iterations", type=int, default=1000,
-                    help="hencky solver.max_iterations per step (default 500: the fixed-matrix schemes need many near the limit load)")
+                    help="hencky solver.max_iterations per step (default 1000: the fixed-matrix schemes need many near the limit load)")
     ap.add_argument("--cutback", type=int, default=4, help="hencky solver.cutback (default 4, the case default)")
     ap.add_argument("--linear", choices=("direct", "iterative"), default="direct", help="hencky solver.linear")
     ap.add_argument("--timeout", type=float, default=1800, help="time limit of one hencky run, s (default 1800); 0: none")
