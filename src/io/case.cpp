@@ -89,9 +89,9 @@ const std::vector<std::string> boundary_keys = {"region", "displacement", "press
 const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force"};
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 const std::vector<std::string> solver_keys = {
-    "scheme",    "curve_form", "steps",      "end",     "times", "max_iterations",
-    "tolerance", "relaxation", "correction", "cutback", "linear", "mechanism_limit",
-    "predictor", "acceleration"};
+    "scheme",         "curve_form",      "steps",      "end",         "times",
+    "max_iterations", "tolerance",       "relaxation", "correction",  "cutback",
+    "linear",         "mechanism_limit", "predictor",  "acceleration"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
@@ -910,16 +910,19 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   }
   if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
   if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
-  if (auto x = m.get("predictor")) s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
+  if (auto x = m.get("predictor"))
+    s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
   if (auto x = m.get("acceleration")) {
     s.anderson = r.choice(*x, accelerations, "acceleration") == "anderson";
     // Anderson mixing needs a fixed map u -> u + K^-1 r(u): a fixed matrix, and a point law that
     // depends on the iterate only (the initial-strain schemes carry their relaxed initial strain
     // from one iteration to the next).
     if (s.anderson && s.scheme != "initial-stress" && s.scheme != "initial-stress-stiffness")
-      r.fail(*x, "acceleration: anderson applies to the schemes initial-stress and "
-                 "initial-stress-stiffness (a fixed matrix and a point law of the iterate alone), "
-                 "not to '" + s.scheme + "'");
+      r.fail(*x,
+             "acceleration: anderson applies to the schemes initial-stress and "
+             "initial-stress-stiffness (a fixed matrix and a point law of the iterate alone), "
+             "not to '" +
+                 s.scheme + "'");
   }
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");

@@ -128,8 +128,8 @@ class StepSolver {
     m_.external_forces(t1, trial.f_ext);
     if (plastic_) begin_plastic_step(c, trial);
 
-    // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) − F_int(t):
-    // with γ = 1 the defect left by the previous step is corrected in full.
+    // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) −
+    // F_int(t): with γ = 1 the defect left by the previous step is corrected in full.
     const double gamma = spec.correction;
     target_.resize(dofs.n_dofs());
     for (int i = 0; i < dofs.n_dofs(); ++i)
@@ -156,23 +156,26 @@ class StepSolver {
       }
       residual = f_norm > 0 ? std::sqrt(r) / f_norm : 0.0;
       if (plastic_) {
-        log_.detail("  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
-                    "points {}",
-                    iterations, residual, delta_sigma_, delta_eps_, plastic_points_);
+        log_.detail(
+            "  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
+            "points {}",
+            iterations, residual, delta_sigma_, delta_eps_, plastic_points_);
       } else {
         log_.detail("  iteration {}: relative residual {:.3e}", iterations, residual);
       }
       const bool measures_ok =
           !plastic_ || (delta_sigma_ <= spec.tolerance && delta_eps_ <= spec.tolerance);
       if (iterations >= 1 && residual <= spec.tolerance && measures_ok) {
-        // The reported residual is the true equilibrium defect F − F_int (γ only shifts the target).
+        // The reported residual is the true equilibrium defect F − F_int (γ only shifts the
+        // target).
         residual = f_norm > 0 ? equilibrium_defect(trial) / f_norm : 0.0;
         // Small strains: an equilibrium found with displacements of the order of the body is a
         // mechanism (a load at or above the plastic limit load), not an answer.
         if (plastic_) {
           double u_max = 0;
           for (int n = 0; n < m_.mesh().n_nodes(); ++n)
-            u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
+            u_max = std::max(u_max,
+                             Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
           if (u_max > spec.mechanism_limit * model_size_) {
             failed_in_linear_solver_ = false;
             throw SolveError(fmt::format(
@@ -186,10 +189,9 @@ class StepSolver {
         return true;
       }
       if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
-      const bool refactor =
-          !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
-          (tangent_changed_ &&
-           (options_.matrix_per_iteration() || (options_.matrix_per_step() && iterations <= 1)));
+      const bool refactor = !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
+                            (tangent_changed_ && (options_.matrix_per_iteration() ||
+                                                  (options_.matrix_per_step() && iterations <= 1)));
       if (refactor) assemble_and_factorize(trial);
       auto t0 = Clock::now();
       failed_in_linear_solver_ = true;
@@ -234,7 +236,8 @@ class StepSolver {
     double work = 0;
     for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
     if (!(work > 0)) {
-      log_.detail("  predictor: the load reverses (no work on the last increment); no extrapolation");
+      log_.detail(
+          "  predictor: the load reverses (no work on the last increment); no extrapolation");
       return r2;
     }
     const double scale = dt / last_dt_;
@@ -250,9 +253,10 @@ class StepSolver {
         rhs_[k] = target_[i] - trial.f_int[i];
         r2x += rhs_[k] * rhs_[k];
       }
-    log_.detail("  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
-                "(from the converged state {:.3e})",
-                scale, std::sqrt(r2x), std::sqrt(r2));
+    log_.detail(
+        "  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
+        "(from the converged state {:.3e})",
+        scale, std::sqrt(r2x), std::sqrt(r2));
     return r2x;
   }
 
@@ -320,9 +324,8 @@ class StepSolver {
       if (!mat.plastic()) continue;
       for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
         point_step_[p] = begin_point_step(options_, trial.constants[p], *mat.hardening,
-                                          trial.temperature[p], mat.elastic_unloading,
-                                          c.stress[p], c.eps_p_eq[p], c.flowing[p] != 0,
-                                          point_iter_[p]);
+                                          trial.temperature[p], mat.elastic_unloading, c.stress[p],
+                                          c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
     }
   }
 
@@ -343,7 +346,8 @@ class StepSolver {
           double du[3 * max_cell_nodes];
           for (int a = 0; a < n; ++a) {
             x[a] = mesh.x[nodes[a]];
-            for (int d = 0; d < 3; ++d) du[3 * a + d] = trial.u[3 * nodes[a] + d] - c.u[3 * nodes[a] + d];
+            for (int d = 0; d < 3; ++d)
+              du[3 * a + d] = trial.u[3 * nodes[a] + d] - c.u[3 * nodes[a] + d];
           }
           CellKinematics& kin = kinematics();
           kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
@@ -351,14 +355,13 @@ class StepSolver {
             const int p = m_.point_offset(e) + q;
             const Voigt d_eps = kin.strain(q, du);
             if (!plastic) {
-              trial.stress[p] = elastic_stress_update(c.constants[p], c.temperature[p],
-                                                      trial.constants[p], trial.temperature[p],
-                                                      c.stress[p], d_eps);
+              trial.stress[p] =
+                  elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
+                                        trial.temperature[p], c.stress[p], d_eps);
             } else {
-              const Voigt d_mech =
-                  d_eps - thermal_strain_increment(c.constants[p], c.temperature[p],
-                                                   trial.constants[p], trial.temperature[p],
-                                                   c.stress[p]);
+              const Voigt d_mech = d_eps - thermal_strain_increment(
+                                               c.constants[p], c.temperature[p], trial.constants[p],
+                                               trial.temperature[p], c.stress[p]);
               const PointUpdate u = evaluate_point(options_, trial.constants[p], point_step_[p],
                                                    point_iter_[p], c.stress[p], d_mech);
               if (u.undefined) {
@@ -475,15 +478,16 @@ class StepSolver {
                 const double* g = dNdx + 3 * a;
                 bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
                              g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
-                             g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) / 3;
+                             g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
+                        3;
               }
               for (int a = 0; a < n; ++a)
                 for (int bb = a; bb < n; ++bb)
                   for (int i = 0; i < 3; ++i)
                     for (int j = 0; j < 3; ++j)
-                      b.ke[(3 * a + i) * nd + 3 * bb + j] +=
-                          bv[a][i] * dq[3 * bb + j] + dq[3 * a + i] * bv[bb][j] +
-                          mcm * dq[3 * a + i] * dq[3 * bb + j];
+                      b.ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
+                                                             dq[3 * a + i] * bv[bb][j] +
+                                                             mcm * dq[3 * a + i] * dq[3 * bb + j];
             }
             // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
             for (int a = 0; a < n; ++a) {
@@ -493,7 +497,8 @@ class StepSolver {
                 const double dot = mu * ga.dot(gb);
                 for (int i = 0; i < 3; ++i)
                   for (int j = 0; j < 3; ++j) {
-                    const double v = lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
+                    const double v =
+                        lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
                     b.ke[(3 * a + i) * nd + 3 * bb + j] += v;
                   }
               }
@@ -583,8 +588,8 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     try {
       ok = stepper.step(committed, t1, trial, iterations, residual);
       if (!ok)
-        why = fmt::format("no convergence in {} iterations (relative residual {:.3e})",
-                          iterations, residual);
+        why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", iterations,
+                          residual);
     } catch (const SolveError& e) {
       if (result.steps == 0 && iterations == 0 && stepper.failed_in_linear_solver())
         throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},
@@ -604,8 +609,8 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
       }
       result.status = AnalysisStatus::not_converged;
       result.factorizations = stepper.factorizations();
-      result.failure = fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1,
-                                   depth, why);
+      result.failure =
+          fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1, depth, why);
       log.info("{}", result.failure);
       return result;
     }
@@ -626,8 +631,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     result.factorizations = stepper.factorizations();
     if (model.has_plasticity()) {
       log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
-               report.step, report.time, report.iterations, report.residual,
-               report.plastic_points);
+               report.step, report.time, report.iterations, report.residual, report.plastic_points);
       stepper.check_curves(committed);
     } else {
       log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}", report.step,

@@ -13,7 +13,6 @@
 // quasi-Newton) method built on the scheme's own iteration: the fixed point, and so the answer,
 // is the scheme's.
 #include <Eigen/Dense>
-
 #include <deque>
 #include <vector>
 

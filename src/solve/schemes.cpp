@@ -33,10 +33,9 @@ const char* scheme_name(SchemeKind kind) {
   return "?";
 }
 
-PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
-                           const Hardening& h, double T1, bool elastic_unloading,
-                           const Voigt& sigma0, double eps_p0, bool flowing,
-                           PointIteration& it) {
+PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, const Hardening& h,
+                           double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
+                           bool flowing, PointIteration& it) {
   PointStep ps;
   const double three_g = 3 * k1.shear_modulus();
   ps.curve = StepCurve(h, T1, three_g, eps_p0, elastic_unloading);
@@ -57,7 +56,9 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
     } else {
       // tan β*_0 = Φ'(ε̃(t)), (2.33), (2.46)
       const double e0 = eps_p0 + q0 / three_g;
-      ps.tan0 = ps.curve.phi(std::max(e0, q0 == ps.curve.yield_now ? ps.curve.eps_yield_now : e0), true).slope;
+      ps.tan0 =
+          ps.curve.phi(std::max(e0, q0 == ps.curve.yield_now ? ps.curve.eps_yield_now : e0), true)
+              .slope;
     }
   }
   it = PointIteration{};
@@ -97,9 +98,8 @@ bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, double xt
 
 }  // namespace
 
-PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
-                           const PointStep& ps, PointIteration& it, const Voigt& sigma0,
-                           const Voigt& x) {
+PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, const PointStep& ps,
+                           PointIteration& it, const Voigt& sigma0, const Voigt& x) {
   const double three_g = ps.curve.three_g;
   const Tangent elastic;
   const Voigt dx = elastic.times(k1, x);  // D x
@@ -128,9 +128,9 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
 
   // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
   const Voigt z = ps.flowing ? ps.z : flow_direction(sigma0 + dx);
-  const double q0 = z.dot(sigma0);                  // σ̃(t) seen along Z
+  const double q0 = z.dot(sigma0);                    // σ̃(t) seen along Z
   const double eps0 = ps.curve.eps_p + q0 / three_g;  // ε̃^{e+p}(t)
-  const double xt = z.dot(dx) / three_g;            // Δε̃^{e+p}_k = ZᵀDx / 3G
+  const double xt = z.dot(dx) / three_g;              // Δε̃^{e+p}_k = ZᵀDx / 3G
   const bool right = ps.flowing;
   double lambda = 0, ds = 0, new_tan = it.tan_beta, lambda0 = it.lambda0;
 
@@ -167,7 +167,7 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
       u.tangent = d_tilde(k1, z, new_tan);
       break;
 
-    case SchemeKind::initial_strain:             // (2.35)-(2.37)
+    case SchemeKind::initial_strain:              // (2.35)-(2.37)
     case SchemeKind::initial_strain_stiffness: {  // (2.38)-(2.40)
       const double tb = s.kind == SchemeKind::initial_strain ? three_g : it.tan_start;
       ds = tb * (xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
@@ -212,8 +212,7 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
   }
 
   // Round-off on the elastic line is not plastic flow.
-  if (std::abs(lambda) <= 1e-12 * std::max(std::abs(eps0 + xt), ps.curve.eps_yield_now))
-    lambda = 0;
+  if (std::abs(lambda) <= 1e-12 * std::max(std::abs(eps0 + xt), ps.curve.eps_yield_now)) lambda = 0;
   u.z = z;
   u.d_lambda = lambda;
   u.plastic = lambda != 0;

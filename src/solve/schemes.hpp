@@ -83,31 +83,29 @@ struct PointIteration {
   /// unloading): the loading tangent is far softer than that response and the fixed-matrix
   /// iteration would diverge (its factor at the point is 1 − 3G/tan β*_0).
   double tan_start = 0;
-  int k = 0;            ///< iterations evaluated in this step
+  int k = 0;  ///< iterations evaluated in this step
 };
 
 /// Everything the evaluation of one iterate gives back.
 struct PointUpdate {
-  Voigt sigma;            ///< σ_k
-  Voigt z;                ///< the flow direction used
-  double d_lambda = 0;    ///< total plastic multiplier: Δε^p = z·d_lambda
-  double eps_ep = 0;      ///< ε̃^{e+p}(t) + Δε̃^{e+p}_k
-  Tangent tangent;        ///< the scheme's matrix at this point for the next solve
-  bool plastic = false;   ///< plastic flow in this iterate
+  Voigt sigma;           ///< σ_k
+  Voigt z;               ///< the flow direction used
+  double d_lambda = 0;   ///< total plastic multiplier: Δε^p = z·d_lambda
+  double eps_ep = 0;     ///< ε̃^{e+p}(t) + Δε̃^{e+p}_k
+  Tangent tangent;       ///< the scheme's matrix at this point for the next solve
+  bool plastic = false;  ///< plastic flow in this iterate
   double defect_sigma = 0, defect_eps = 0;  ///< numerators of Δ^σ_k, Δ^ε_k
   bool undefined = false;  ///< the strain form F was needed above the curve's largest stress
 };
 
 /// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
-PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1,
-                           const Hardening& h, double T1, bool elastic_unloading,
-                           const Voigt& sigma0, double eps_p0, bool flowing,
-                           PointIteration& it);
+PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, const Hardening& h,
+                           double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
+                           bool flowing, PointIteration& it);
 
 /// Evaluates iterate k at a point: x = Δε_k − Δε^th. Updates `it` to the parameters of
 /// iteration k+1 and returns the stress σ_k and the matrix they define.
-PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1,
-                           const PointStep& ps, PointIteration& it, const Voigt& sigma0,
-                           const Voigt& x);
+PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, const PointStep& ps,
+                           PointIteration& it, const Voigt& sigma0, const Voigt& x);
 
 }  // namespace hencky
