@@ -148,6 +148,13 @@ std::string cylinder_case(const Hill& h, const std::string& scheme, double p_end
       order, num(h.E), num(h.nu), num(h.sy), num(p_end), scheme, steps, num(h.a), num(h.b));
 }
 
+/// The cylinder's quarter ring with 4 elements across the wall (and 8 around), as ring.geo in
+/// `dir`: the mesh of the tests that compare runs rather than check the closed form.
+void write_coarse_ring(const fs::path& dir, const Hill& h) {
+  const int nr = 4;
+  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+}
+
 /// Radius of the plastic front: the largest radius of an integration point that has flowed,
 /// and the smallest of one that has not (the front lies between them).
 std::pair<double, double> plastic_front(const Model& m, const State& s) {
@@ -236,8 +243,7 @@ TEST(VerifyPlastic, ThickCylinderStopsAtTheLimitLoad) {
 TEST(VerifyPlastic, NewtonPredictorExtrapolatesOnTheWayUpAndNotAtAReversal) {
   const Hill h;
   TempDir dir("hill-predictor");
-  const int nr = 4;
-  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  write_coarse_ring(dir.path(), h);
   const double p_peak = 0.9 * h.limit();
   ASSERT_LT(p_peak, 2 * h.k() * (1 - h.a * h.a / (h.b * h.b)));  // no reversed yielding
   std::unique_ptr<FullRun> runs[2];
@@ -307,8 +313,7 @@ double convergence_order(const std::vector<double>& r) {
 TEST(VerifyPlastic, NewtonConvergesQuadratically) {
   const Hill h;
   TempDir dir("hill-quadratic");
-  const int nr = 4;
-  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  write_coarse_ring(dir.path(), h);
   const double p_end = 0.9 * h.limit();
   for (const std::string scheme : {"newton", "initial-stress-stiffness"}) {
     std::string yaml = cylinder_case(h, scheme, p_end, 1);
@@ -343,8 +348,7 @@ TEST(VerifyPlastic, NewtonConvergesQuadratically) {
 TEST(VerifyPlastic, ErrorCorrectionKeepsTheDefectFromAccumulating) {
   const Hill h;
   TempDir dir("hill-correction");
-  const int nr = 4;
-  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  write_coarse_ring(dir.path(), h);
   const double p_end = 0.9 * h.limit();
   double defect[2], u_b[2];
   for (int g = 0; g < 2; ++g) {
@@ -377,8 +381,7 @@ TEST(VerifyPlastic, ErrorCorrectionKeepsTheDefectFromAccumulating) {
 TEST(VerifyPlastic, AndersonAccelerationKeepsTheAnswerAndCutsIterations) {
   const Hill h;
   TempDir dir("hill-anderson");
-  const int nr = 4;
-  write_file(dir / "ring.geo", quarter_ring_geo(h.a, h.b, (h.b - h.a) / nr, nr, 2 * nr, "hex"));
+  write_coarse_ring(dir.path(), h);
   const double p_end = 0.9 * h.limit();
   for (const std::string scheme : {"initial-stress", "initial-stress-stiffness"}) {
     std::unique_ptr<FullRun> runs[2];
