@@ -13,7 +13,7 @@
 // quasi-Newton) method built on the scheme's own iteration: the fixed point, and so the answer,
 // is the scheme's.
 #include <Eigen/Dense>
-#include <deque>
+#include <algorithm>
 #include <vector>
 
 namespace hencky {
@@ -25,41 +25,46 @@ class Anderson {
   /// Forgets the history: the next step is the plain one (after the map G changed: a new
   /// matrix, a new step, or a step that made things worse).
   void reset() {
-    du_.clear();
-    df_.clear();
+    stored_ = next_ = 0;
     have_prev_ = false;
   }
 
   /// `u`: the current iterate (free unknowns); `f`: its plain correction G(u) − u, replaced by
-  /// the accelerated one.
+  /// the accelerated one. The history is kept as columns of two n × depth matrices, the oldest
+  /// column overwritten when they are full (the least-squares weights do not depend on the
+  /// order of the columns): after the first iterations of a problem nothing is allocated.
   void accelerate(const std::vector<double>& u, std::vector<double>& f) {
     const Eigen::Index n = static_cast<Eigen::Index>(u.size());
     const Eigen::Map<const Eigen::VectorXd> uk(u.data(), n);
     Eigen::Map<Eigen::VectorXd> fk(f.data(), n);
+    if (du_.rows() != n) {
+      du_.resize(n, depth_);
+      df_.resize(n, depth_);
+      reset();
+    }
     if (have_prev_) {
-      du_.push_back(uk - u_prev_);
-      df_.push_back(fk - f_prev_);
-      if (static_cast<int>(df_.size()) > depth_) {
-        du_.pop_front();
-        df_.pop_front();
-      }
+      const Eigen::Index col = next_ % depth_;
+      du_.col(col) = uk - u_prev_;
+      df_.col(col) = fk - f_prev_;
+      next_ = col + 1;
+      stored_ = std::min<Eigen::Index>(stored_ + 1, depth_);
     }
     u_prev_ = uk;
     f_prev_ = fk;
     have_prev_ = true;
-    if (df_.empty()) return;
-    const Eigen::Index m = static_cast<Eigen::Index>(df_.size());
-    Eigen::MatrixXd dF(n, m);
-    for (Eigen::Index j = 0; j < m; ++j) dF.col(j) = df_[static_cast<std::size_t>(j)];
-    const Eigen::VectorXd gamma = dF.colPivHouseholderQr().solve(f_prev_);
-    for (Eigen::Index j = 0; j < m; ++j)
-      fk -= gamma[j] * (du_[static_cast<std::size_t>(j)] + df_[static_cast<std::size_t>(j)]);
+    if (stored_ == 0) return;
+    qr_.compute(df_.leftCols(stored_));
+    gamma_ = qr_.solve(f_prev_);
+    fk.noalias() -= du_.leftCols(stored_) * gamma_;
+    fk.noalias() -= df_.leftCols(stored_) * gamma_;
   }
 
  private:
-  int depth_;
-  std::deque<Eigen::VectorXd> du_, df_;
-  Eigen::VectorXd u_prev_, f_prev_;
+  Eigen::Index depth_;
+  Eigen::MatrixXd du_, df_;  ///< columns: differences of successive iterates and corrections
+  Eigen::Index stored_ = 0, next_ = 0;
+  Eigen::VectorXd u_prev_, f_prev_, gamma_;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
   bool have_prev_ = false;
 };
 
