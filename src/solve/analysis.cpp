@@ -243,7 +243,7 @@ class StepSolver {
     const double scale = dt / last_dt_;
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
-    restart_point_iterations();
+    begin_plastic_step(c, trial);  // the extrapolated start is the step's iteration 0
     const bool plain_changed = tangent_changed_;
     update_points(c, trial);
     tangent_changed_ = tangent_changed_ || plain_changed;
@@ -258,16 +258,6 @@ class StepSolver {
         "(from the converged state {:.3e})",
         scale, std::sqrt(r2x), std::sqrt(r2));
     return r2x;
-  }
-
-  /// newton's point iterations as begin_point_step leaves them: the start evaluated next is the
-  /// step's iteration 0 (its Δσ, Δε measure the change from t).
-  void restart_point_iterations() {
-    for (PointIteration& it : point_iter_) {
-      it.k = 0;
-      it.x_prev = it.ds_prev = 0;
-      it.plastic_prev = false;
-    }
   }
 
   /// Keeps the free part of a converged step's displacement increment for the next predictor.
