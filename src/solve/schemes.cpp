@@ -55,10 +55,7 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, c
       ps.tan0 = std::isfinite(df) && df > 0 ? 1 / df : 0.0;
     } else {
       // tan β*_0 = Φ'(ε̃(t)), (2.33), (2.46)
-      const double e0 = eps_p0 + q0 / three_g;
-      ps.tan0 =
-          ps.curve.phi(std::max(e0, q0 == ps.curve.yield_now ? ps.curve.eps_yield_now : e0), true)
-              .slope;
+      ps.tan0 = ps.curve.phi(eps_p0 + q0 / three_g, true).slope;
     }
   }
   it = PointIteration{};
@@ -78,6 +75,22 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, c
 
 namespace {
 
+/// The size below which an increment of ε̃^{e+p} is round-off relative to ε̃^{e+p}(t) = `eps0`
+/// (a purely volumetric increment, e.g. a thermal predictor, has ZᵀDx = 0 to round-off).
+double strain_roundoff(const PointStep& ps, double eps0) {
+  return 1e-8 * std::max(std::abs(eps0), ps.curve.eps_yield_now);
+}
+
+/// The secant of the curve over the step, (Φ(ε̃ + Δε̃) − σ̃)/Δε̃ with Φ(ε̃ + Δε̃) = `phi_value`:
+/// tan β* of (2.33) and tan β** of (2.42). It is a difference of two numbers of the size of σ̃
+/// divided by Δε̃: for an increment at round-off level it is noise of any sign and size (which
+/// made D̃ indefinite at thermal predictors); its limit there is the curve's slope.
+double stress_secant(const PointStep& ps, double eps0, double q0, double xt, double phi_value,
+                     bool right) {
+  return std::abs(xt) > strain_roundoff(ps, eps0) ? (phi_value - q0) / xt
+                                                  : ps.curve.phi(eps0, right).slope;
+}
+
 /// The `-stiffness` schemes (2.38)-(2.40), (2.44)-(2.46) fix tan β* at "the slope at the start of
 /// the step", which for a point that was flowing depends on the direction the step takes: the
 /// curve's loading slope if it keeps flowing, the elastic line 3G if it unloads (elastic
@@ -85,12 +98,12 @@ namespace {
 /// once the first iterates (the predictor, and the first solve: the matrix may then be refactored
 /// once more) show the point unloading, 3G. With the loading slope kept, the fixed-matrix
 /// iteration at an unloading point multiplies its error by 1 − 3G/tan β*_0 and diverges.
-/// `xt` is the iterate's Δε̃^{e+p}; `eps0` ε̃^{e+p}(t). A decrease at round-off level (a purely
-/// volumetric predictor has ZᵀDx = 0 to round-off) is not unloading.
+/// `xt` is the iterate's Δε̃^{e+p}; `eps0` ε̃^{e+p}(t). A decrease at round-off level is not
+/// unloading.
 /// Returns true when it switched.
 bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, double xt, double eps0) {
   if (!ps.flowing || !ps.curve.elastic_unloading || it.k > 1 || it.tan_start == ps.curve.three_g ||
-      !(xt < -1e-8 * std::max(std::abs(eps0), ps.curve.eps_yield_now)))
+      !(xt < -strain_roundoff(ps, eps0)))
     return false;
   it.tan_start = ps.curve.three_g;
   return true;
@@ -141,13 +154,7 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, c
         const auto ph = ps.curve.phi(eps0 + xt, right);
         u.defect_sigma = ph.value - (q0 + ds);
         u.defect_eps = xt - it.x_prev;
-        // The secant (Φ(ε̃ + Δε̃) − σ̃)/Δε̃ is a difference of two numbers of the size of σ̃,
-        // divided by Δε̃: for an increment at round-off level relative to ε̃ (a purely
-        // volumetric x, e.g. the thermal predictor, has ZᵀDx = 0 to round-off) it is noise of
-        // any sign and size, which makes D̃ indefinite. Its limit there is the curve's slope.
-        new_tan = std::abs(xt) > 1e-8 * std::max(std::abs(eps0), ps.curve.eps_yield_now)
-                      ? (ph.value - q0) / xt
-                      : ps.curve.phi(eps0, right).slope;
+        new_tan = stress_secant(ps, eps0, q0, xt, ph.value, right);
         lambda = xt - (ph.value - q0) / three_g;
       } else {  // (2.34)
         const auto fk = ps.curve.f(q0 + ds, right);
@@ -199,7 +206,7 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, c
       const auto ph = ps.curve.phi(eps0 + xt, right);
       u.defect_sigma = ph.value - (q0 + ds);
       u.defect_eps = xt - it.x_prev;
-      new_tan = xt != 0 ? (ph.value - q0) / xt : ps.curve.phi(eps0, right).slope;  // β**_{k+1}
+      new_tan = stress_secant(ps, eps0, q0, xt, ph.value, right);  // β**_{k+1}
       lambda = xt - (ph.value - q0) / three_g;  // σ_k = D̃(β**_{k+1})x: on the curve along Z
       if (s.kind == SchemeKind::initial_stress_stiffness) {
         start_slope_on_unloading(ps, it, xt, eps0);
