@@ -15,6 +15,14 @@
 
 namespace hencky {
 
+/// Whether the temperatures T_min .. T_max of the integration points reach outside lo .. hi by
+/// more than round-off: a point temperature interpolated from nodal values equal to an end
+/// (Σ N_a = 1 to round-off) may fall an ulp outside it without leaving the range.
+inline bool leaves_range(double T_min, double T_max, double lo, double hi) {
+  const double slack = 1e-9 * (hi - lo);
+  return T_min < lo - slack || T_max > hi + slack;
+}
+
 /// A material property (E, nu or alpha): a constant, or a table over temperature.
 struct PropertyTable {
   /// Table temperatures, strictly increasing; empty when the property was given as a number.
@@ -27,6 +35,12 @@ struct PropertyTable {
   /// and *outside (when given) is set to true; otherwise it is set to false.
   double operator()(double T, bool* outside = nullptr) const;
   bool is_constant() const { return value.size() == 1; }
+  /// A table that the temperatures T_min .. T_max leave (leaves_range); never a constant (nor
+  /// a property that was not given).
+  bool left_by(double T_min, double T_max) const {
+    return temperature.size() >= 2 &&
+           leaves_range(T_min, T_max, temperature.front(), temperature.back());
+  }
 };
 
 /// A hardening curve as given in the case file (materials[i].plasticity). Conversion to the

@@ -468,8 +468,7 @@ void Hardening::warn_outside(const std::string& material, double T_min, double T
   if (kind_ == CurveSpec::Kind::table) {
     // One table: the curve does not depend on temperature, nothing to leave.
     const double lo = tables_.front().temperature, hi = tables_.back().temperature;
-    const double slack = 1e-9 * (hi - lo);  // an ulp outside is not leaving the tables
-    if (tables_.size() > 1 && (T_min < lo - slack || T_max > hi + slack))
+    if (tables_.size() > 1 && leaves_range(T_min, T_max, lo, hi))
       log.warn_once("hardening-temperature:" + material,
                     fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
                                 "leave the hardening curve's tables ({:g} .. {:g}); the table at "
@@ -495,11 +494,7 @@ void Hardening::warn_outside(const std::string& material, double T_min, double T
     return;
   }
   for (const PropertyTable* p : {&yield_, &hardening_}) {
-    if (p->value.size() < 2) continue;
-    // An ulp outside the table (a point temperature interpolated from nodal values at its end)
-    // is not leaving it.
-    const double slack = 1e-9 * (p->temperature.back() - p->temperature.front());
-    if (T_min < p->temperature.front() - slack || T_max > p->temperature.back() + slack)
+    if (p->left_by(T_min, T_max))
       log.warn_once("hardening-temperature:" + material + ":" + p->where.key,
                     fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
                                 "leave the table of '{}' ({:g} .. {:g}); the end values are used "

@@ -24,11 +24,7 @@ ElasticConstants MaterialModel::at(double T, bool* outside) const {
 
 void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
   for (const PropertyTable* p : {&spec->E, &spec->nu, &spec->alpha}) {
-    if (p->is_constant()) continue;
-    // A point temperature interpolated from nodal values equal to a table's end (Σ N_a = 1 to
-    // round-off) may fall outside it by an ulp: that is not leaving the table.
-    const double slack = 1e-9 * (p->temperature.back() - p->temperature.front());
-    if (T_min < p->temperature.front() - slack || T_max > p->temperature.back() + slack)
+    if (p->left_by(T_min, T_max))
       log.warn_once("table:" + p->where.key,
                     fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
                                 "leave the table of '{}' ({:g} .. {:g}); the end values are used "
