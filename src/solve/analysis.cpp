@@ -35,6 +35,7 @@ class StepSolver {
     options_.kind = scheme_from_name(m.spec().solver.scheme);
     options_.strain_form = m.spec().solver.curve_form == "strain";
     options_.omega = m.spec().solver.relaxation;
+    extrapolate_ = plastic_ && options_.kind == SchemeKind::newton && m.spec().solver.extrapolate;
     if (plastic_) {
       Vec3 lo = m.mesh().x.front(), hi = lo;
       for (const Vec3& p : m.mesh().x) {
@@ -185,7 +186,7 @@ class StepSolver {
                 u_max, 100 * spec.mechanism_limit, model_size_));
           }
         }
-        remember_increment(c, trial);
+        if (extrapolate_) remember_increment(c, trial);
         return true;
       }
       if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
@@ -230,9 +231,7 @@ class StepSolver {
   double extrapolated_start(const State& c, State& trial, double r2) {
     const auto& dofs = m_.dofs();
     const double dt = trial.time - c.time;
-    if (!plastic_ || options_.kind != SchemeKind::newton || !m_.spec().solver.extrapolate ||
-        last_dt_ <= 0 || dt <= 0 || last_du_.size() != static_cast<std::size_t>(dofs.n_free))
-      return r2;
+    if (!extrapolate_ || last_dt_ <= 0 || dt <= 0) return r2;
     double work = 0;
     for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
     if (!(work > 0)) {
@@ -542,12 +541,14 @@ class StepSolver {
   int factorizations_ = 0;
   bool failed_in_linear_solver_ = false;
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
-  // newton's predictor: the last converged increment of the free unknowns and its Δt
+  // newton's predictor (solver.predictor): the last converged increment of the free unknowns
+  // and its Δt
+  bool extrapolate_ = false;
   std::vector<double> last_du_;
+  double last_dt_ = 0;
   // solver.acceleration: anderson
   Anderson anderson_{5};
   std::vector<double> free_u_;
-  double last_dt_ = 0;
 };
 
 }  // namespace
