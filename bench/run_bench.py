@@ -89,9 +89,11 @@ Mesh.MeshSizeMax = h;
 """
 
 
-def geo_cylinder(h: float, c: dict = CYL) -> str:
+def geo_cylinder(h: float, c: dict = CYL, layers: int = 0) -> str:
     """Quarter ring a < r < b, axial length Lz (the keys of CYL; the plastic benchmark passes
-    its own)."""
+    its own), meshed with unstructured tetrahedra of size h; with `layers` > 0 meshed in its
+    plane and extruded in that many layers (Gmsh splits each prism into three tetrahedra)."""
+    extrude = f" Layers{{{layers}}};" if layers > 0 else ""
     return f"""// hencky benchmark: quarter thick cylinder a={c['a']} b={c['b']} length {c['Lz']}, element size h
 a = {c['a']}; b = {c['b']}; Lz = {c['Lz']}; h = {h!r};
 Point(1) = {{0, 0, 0, h}};
@@ -102,7 +104,7 @@ Circle(2) = {{3, 1, 4}};       // outer
 Line(3) = {{4, 5}};            // on x = 0
 Circle(4) = {{5, 1, 2}};       // bore
 Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
-out[] = Extrude {{0, 0, Lz}} {{ Surface{{1}}; }};
+out[] = Extrude {{0, 0, Lz}} {{ Surface{{1}};{extrude} }};
 // out[0] top, out[1] volume, out[2..5] lateral faces from lines 1..4
 Physical Volume("wall") = {{out[1]}};
 Physical Surface("bottom") = {{1}};

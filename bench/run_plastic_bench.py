@@ -187,31 +187,11 @@ def radial_reference(p_end: float, steps: int, hardening: float = 0.0, n_el: int
 
 def geo_slice(h: float, layers: int) -> str:
     """The quarter ring a < r < b meshed in its plane (triangles of size h) and extruded in z by
-    `layers` layers of thickness h: a slice layers*h thick whose tetrahedra (Gmsh splits each
-    extruded prism into three) have about the same size in every direction. Refining keeps the
-    slice `layers` elements thick, so the unknowns grow as h^-2 and the factorization's fill as
-    that of a 2D mesh. Physical groups as run_bench's cylinder."""
-    return f"""// hencky plastic benchmark: quarter ring a={A_IN} b={B_OUT}, slice of {layers} layers, element size h
-a = {A_IN}; b = {B_OUT}; h = {h!r}; Lz = {layers}*h;
-Point(1) = {{0, 0, 0, h}};
-Point(2) = {{a, 0, 0, h}}; Point(3) = {{b, 0, 0, h}};
-Point(4) = {{0, b, 0, h}}; Point(5) = {{0, a, 0, h}};
-Line(1) = {{2, 3}};            // on y = 0
-Circle(2) = {{3, 1, 4}};       // outer
-Line(3) = {{4, 5}};            // on x = 0
-Circle(4) = {{5, 1, 2}};       // bore
-Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
-out[] = Extrude {{0, 0, Lz}} {{ Surface{{1}}; Layers{{{layers}}}; }};
-// out[0] top, out[1] volume, out[2..5] lateral faces from lines 1..4
-Physical Volume("wall") = {{out[1]}};
-Physical Surface("bottom") = {{1}};
-Physical Surface("top") = {{out[0]}};
-Physical Surface("sym_y") = {{out[2]}};
-Physical Surface("outer") = {{out[3]}};
-Physical Surface("sym_x") = {{out[4]}};
-Physical Surface("bore") = {{out[5]}};
-Mesh.MeshSizeMax = h;
-"""
+    `layers` layers of thickness h: a slice layers*h thick whose tetrahedra have about the same
+    size in every direction. Refining keeps the slice `layers` elements thick, so the unknowns
+    grow as h^-2 and the factorization's fill as that of a 2D mesh. run_bench's cylinder
+    geometry and physical groups."""
+    return rb.geo_cylinder(h, dict(rb.CYL, Lz=layers * h), layers)
 
 
 def register_geometry(layers: int, thickness: float) -> str:
