@@ -3,18 +3,26 @@
 # the system Python (/usr/bin/python3, which has numpy: Debian's python3-numpy).
 ex_py=/usr/bin/python3
 
-# ex_check NAME FILE EXPR: evaluates the Python expression EXPR with `s` = the JSON in FILE
-# (e.g. summary.json) and close(value, expected, relative_tolerance); ok when it is true.
+# ex_check NAME FILE EXPR: evaluates the Python expression EXPR with close(value, expected,
+# relative_tolerance) and FILE's content: a .csv (history.csv) as h = its rows (numbers) with
+# at(t) = the row nearest time t and np = numpy, anything else as s = its JSON (summary.json).
+# ok when EXPR is true.
 ex_check() {
   local name="$1" file="$2" expr="$3" out
   if out="$("$ex_py" - "$file" "$expr" 2>&1 <<'PY'
-import json, os, sys
+import csv, json, os, sys
 def close(v, e, rel):
     if abs(v - e) <= rel * abs(e):
         return True
     print("got %r, expected %r within %g relative (off by %.3g)" % (v, e, rel, abs(v - e) / abs(e)))
     return False
-s = json.load(open(sys.argv[1]))
+if sys.argv[1].endswith(".csv"):
+    import numpy as np
+    h = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(sys.argv[1]))]
+    def at(t):
+        return min(h, key=lambda r: abs(r["time"] - t))
+else:
+    s = json.load(open(sys.argv[1]))
 sys.exit(0 if eval("(" + sys.argv[2] + "\n)") else 1)
 PY
 )"; then ok "$name"; else bad "$name" "check: $expr"$'\n'"$out"; fi
