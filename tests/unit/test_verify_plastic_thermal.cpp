@@ -150,7 +150,7 @@ struct BarPath {
 /// length, differently at each corner) so that the elements are not parallelepipeds.
 /// Regions: body; faces x0 x1 y0 y1 z0 z1.
 std::string bar_msh(int n, bool quadratic, double L, double w, double skew) {
-  std::vector<Vec3> x;
+  MshBuilder b;
   auto id = [&](int i, int j, int k) { return 1 + i + (n + 1) * (j + 2 * k); };
   const double dx = L / n;
   for (int k = 0; k < 2; ++k)
@@ -158,40 +158,14 @@ std::string bar_msh(int n, bool quadratic, double L, double w, double skew) {
       for (int i = 0; i <= n; ++i) {
         const double shift =
             (i > 0 && i < n) ? skew * dx * ((j + 2 * k) % 3 - 1) * (i % 2 ? 1 : -1) : 0.0;
-        x.emplace_back(i * dx + shift, j * w, k * w);
+        b.x.emplace_back(i * dx + shift, j * w, k * w);
       }
-  std::map<std::pair<int, int>, int> mid;
-  auto midnode = [&](int a, int b) {
-    const auto key = std::minmax(a, b);
-    if (auto it = mid.find(key); it != mid.end()) return it->second;
-    x.push_back(0.5 * (x[a - 1] + x[b - 1]));
-    const int tag = static_cast<int>(x.size());
-    mid.emplace(key, tag);
-    return tag;
-  };
-  struct Element {
-    int type, physical;
-    std::vector<int> nodes;
-  };
-  std::vector<Element> elements;
-  // clang-format off
-  constexpr std::array<std::array<int, 2>, 12> hex_edges{{{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5},
-                                                           {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7},
-                                                           {5, 6}, {6, 7}}};  // Gmsh's order
-  // clang-format on
   for (int i = 0; i < n; ++i) {
     const std::array<int, 8> c{id(i, 0, 0), id(i + 1, 0, 0), id(i + 1, 1, 0), id(i, 1, 0),
                                id(i, 0, 1), id(i + 1, 0, 1), id(i + 1, 1, 1), id(i, 1, 1)};
-    Element e{quadratic ? 17 : 5, 1, {c.begin(), c.end()}};
-    if (quadratic)
-      for (auto [a, b] : hex_edges) e.nodes.push_back(midnode(c[a], c[b]));
-    elements.push_back(e);
-    auto quad = [&](int tag, int a, int b, int cc, int d) {
-      Element f{quadratic ? 16 : 3, tag, {c[a], c[b], c[cc], c[d]}};
-      if (quadratic)
-        for (auto [p, q] : std::array<std::array<int, 2>, 4>{{{a, b}, {b, cc}, {cc, d}, {d, a}}})
-          f.nodes.push_back(midnode(c[p], c[q]));
-      elements.push_back(f);
+    b.hex(c, quadratic, 1);
+    auto quad = [&](int tag, int a, int bb, int cc, int d) {
+      b.quad(c[a], c[bb], c[cc], c[d], quadratic, tag);
     };
     if (i == 0) quad(11, 0, 3, 7, 4);
     if (i == n - 1) quad(12, 1, 2, 6, 5);
@@ -200,20 +174,7 @@ std::string bar_msh(int n, bool quadratic, double L, double w, double skew) {
     quad(15, 0, 1, 2, 3);
     quad(16, 4, 5, 6, 7);
   }
-  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n7\n3 1 \"body\"\n";
-  const char* faces[] = {"x0", "x1", "y0", "y1", "z0", "z1"};
-  for (int f = 0; f < 6; ++f) s += fmt::format("2 {} \"{}\"\n", 11 + f, faces[f]);
-  s += fmt::format("$EndPhysicalNames\n$Nodes\n{}\n", x.size());
-  for (std::size_t a = 0; a < x.size(); ++a)
-    s += fmt::format("{} {} {} {}\n", a + 1, num(x[a].x()), num(x[a].y()), num(x[a].z()));
-  s += fmt::format("$EndNodes\n$Elements\n{}\n", elements.size());
-  for (std::size_t e = 0; e < elements.size(); ++e) {
-    s += fmt::format("{} {} 2 {} {}", e + 1, elements[e].type, elements[e].physical,
-                     elements[e].physical);
-    for (int v : elements[e].nodes) s += fmt::format(" {}", v);
-    s += "\n";
-  }
-  return s + "$EndElements\n";
+  return b.text(box_region_names());
 }
 
 constexpr double bar_L = 0.4, bar_w = 0.05;

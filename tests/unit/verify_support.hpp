@@ -24,6 +24,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -237,6 +238,74 @@ inline const char* to_string(GridCells k) {
   return "?";
 }
 
+/// Nodes and elements of a Gmsh 2.2 mesh written by the tests (cube_msh, and the bar of
+/// test_verify_plastic_thermal.cpp). Node tags are positions in x plus one; mid-edge nodes are
+/// created once per edge; every element's elementary entity is its physical tag.
+struct MshBuilder {
+  struct Element {
+    int type, physical;
+    std::vector<int> nodes;
+  };
+  std::vector<Vec3> x;
+  std::vector<Element> elements;
+  std::map<std::pair<int, int>, int> mid;
+
+  /// The node at the middle of the edge a-b (node tags), created the first time it is asked for.
+  int midnode(int a, int b) {
+    const auto key = std::minmax(a, b);
+    if (auto it = mid.find(key); it != mid.end()) return it->second;
+    x.push_back(0.5 * (x[a - 1] + x[b - 1]));
+    const int tag = static_cast<int>(x.size());
+    mid.emplace(key, tag);
+    return tag;
+  }
+  /// A hexahedron with corners c (Gmsh's order): 8 nodes, or 20 with its mid-edge nodes.
+  void hex(const std::array<int, 8>& c, bool quadratic, int physical) {
+    // clang-format off
+    constexpr std::array<std::array<int, 2>, 12> edges{{{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5},
+                                                        {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7},
+                                                        {5, 6}, {6, 7}}};  // Gmsh's order
+    // clang-format on
+    Element e{quadratic ? 17 : 5, physical, {c.begin(), c.end()}};
+    if (quadratic)
+      for (auto [a, b] : edges) e.nodes.push_back(midnode(c[a], c[b]));
+    elements.push_back(e);
+  }
+  /// A quadrilateral face a b c d (node tags, in order around it): 4 nodes, or 8.
+  void quad(int a, int b, int c, int d, bool quadratic, int physical) {
+    Element f{quadratic ? 16 : 3, physical, {a, b, c, d}};
+    if (quadratic)
+      for (auto [p, q] : std::array<std::array<int, 2>, 4>{{{a, b}, {b, c}, {c, d}, {d, a}}})
+        f.nodes.push_back(midnode(p, q));
+    elements.push_back(f);
+  }
+  /// The .msh text, with the physical names given as {dimension, tag, name}.
+  std::string text(const std::vector<std::tuple<int, int, std::string>>& names) const {
+    std::string s = fmt::format("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n{}\n",
+                                names.size());
+    for (const auto& [dim, tag, name] : names) s += fmt::format("{} {} \"{}\"\n", dim, tag, name);
+    s += fmt::format("$EndPhysicalNames\n$Nodes\n{}\n", x.size());
+    for (std::size_t a = 0; a < x.size(); ++a)
+      s += fmt::format("{} {} {} {}\n", a + 1, num(x[a].x()), num(x[a].y()), num(x[a].z()));
+    s += fmt::format("$EndNodes\n$Elements\n{}\n", elements.size());
+    for (std::size_t e = 0; e < elements.size(); ++e) {
+      s += fmt::format("{} {} 2 {} {}", e + 1, elements[e].type, elements[e].physical,
+                       elements[e].physical);
+      for (int v : elements[e].nodes) s += fmt::format(" {}", v);
+      s += "\n";
+    }
+    return s + "$EndElements\n";
+  }
+};
+
+/// The regions of cube_msh() and of the thermal bar: the body and the six faces of a box.
+inline std::vector<std::tuple<int, int, std::string>> box_region_names() {
+  std::vector<std::tuple<int, int, std::string>> names{{3, 1, "body"}};
+  const char* faces[] = {"x0", "x1", "y0", "y1", "z0", "z1"};
+  for (int f = 0; f < 6; ++f) names.emplace_back(2, 11 + f, faces[f]);
+  return names;
+}
+
 /// The cube [0, L]^3 cut into n^3 hexahedra (or each hexahedron into two wedges, or a mix: the
 /// wedge columns are those with i + j even), with every interior node moved by up to
 /// `distortion` times the grid step in each direction (deterministic pseudo-random). Quadratic
@@ -251,7 +320,7 @@ inline std::string cube_msh(int n, GridCells kind, double distortion, double L =
   auto rnd = [&] { return 2.0 * (static_cast<double>(rng()) / 4294967295.0) - 1.0; };
   const int m = n + 1;
   const double step = L / n;
-  std::vector<Vec3> x;
+  MshBuilder b;
   auto id = [&](int i, int j, int k) { return 1 + i + m * (j + m * k); };
   for (int k = 0; k <= n; ++k)
     for (int j = 0; j <= n; ++j)
@@ -259,36 +328,18 @@ inline std::string cube_msh(int n, GridCells kind, double distortion, double L =
         Vec3 p(i * step, j * step, k * step);
         if (i > 0 && i < n && j > 0 && j < n && k > 0 && k < n)
           for (int d = 0; d < 3; ++d) p[d] += distortion * step * rnd();
-        x.push_back(p);
+        b.x.push_back(p);
       }
   const bool quadratic = kind == GridCells::hex20;
-  std::map<std::pair<int, int>, int> mid;
-  auto midnode = [&](int a, int b) {
-    const auto key = std::minmax(a, b);
-    auto it = mid.find(key);
-    if (it != mid.end()) return it->second;
-    x.push_back(0.5 * (x[a - 1] + x[b - 1]));
-    const int tag = static_cast<int>(x.size());
-    mid.emplace(key, tag);
-    return tag;
-  };
   auto is_wedge_column = [&](int i, int j) {
     return kind == GridCells::wedge6 || (kind == GridCells::mixed && (i + j) % 2 == 0);
   };
 
-  struct Element {
-    int type, physical, entity;
-    std::vector<int> nodes;
-  };
-  std::vector<Element> elements;
   // Physical tags: 1 body; 11..16 faces; 21..24 points.
   const std::array<std::pair<int, int>, 4> points{{{21, id(0, 0, 0)}, {22, id(n, 0, 0)},
                                                    {23, id(0, n, 0)}, {24, id(0, 0, n)}}};
-  for (auto [tag, node] : points) elements.push_back({15, tag, tag, {node}});
+  for (auto [tag, node] : points) b.elements.push_back({15, tag, {node}});
 
-  constexpr std::array<std::array<int, 2>, 12> hex_edges{{{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5},
-                                                           {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7},
-                                                           {5, 6}, {6, 7}}};
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
@@ -296,22 +347,14 @@ inline std::string cube_msh(int n, GridCells kind, double distortion, double L =
                                    id(i, j + 1, k),     id(i, j, k + 1),     id(i + 1, j, k + 1),
                                    id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
         if (is_wedge_column(i, j)) {
-          elements.push_back({6, 1, 1, {c[0], c[1], c[2], c[4], c[5], c[6]}});
-          elements.push_back({6, 1, 1, {c[0], c[2], c[3], c[4], c[6], c[7]}});
-        } else if (quadratic) {
-          Element e{17, 1, 1, {c.begin(), c.end()}};
-          for (auto [a, b] : hex_edges) e.nodes.push_back(midnode(c[a], c[b]));
-          elements.push_back(e);
+          b.elements.push_back({6, 1, {c[0], c[1], c[2], c[4], c[5], c[6]}});
+          b.elements.push_back({6, 1, {c[0], c[2], c[3], c[4], c[6], c[7]}});
         } else {
-          elements.push_back({5, 1, 1, {c.begin(), c.end()}});
+          b.hex(c, quadratic, 1);
         }
         // Boundary faces of this cell.
-        auto quad = [&](int tag, int a, int b, int cc, int d) {
-          Element f{quadratic ? 16 : 3, tag, tag, {c[a], c[b], c[cc], c[d]}};
-          if (quadratic)
-            for (auto [p, q] : std::array<std::array<int, 2>, 4>{{{a, b}, {b, cc}, {cc, d}, {d, a}}})
-              f.nodes.push_back(midnode(c[p], c[q]));
-          elements.push_back(f);
+        auto quad = [&](int tag, int a, int bb, int cc, int d) {
+          b.quad(c[a], c[bb], c[cc], c[d], quadratic, tag);
         };
         if (i == 0) quad(11, 0, 3, 7, 4);
         if (i == n - 1) quad(12, 1, 2, 6, 5);
@@ -321,31 +364,18 @@ inline std::string cube_msh(int n, GridCells kind, double distortion, double L =
           if (k != (side == 0 ? 0 : n - 1)) continue;
           const int tag = side == 0 ? 15 : 16, o = side == 0 ? 0 : 4;
           if (is_wedge_column(i, j)) {
-            elements.push_back({2, tag, tag, {c[o], c[o + 1], c[o + 2]}});
-            elements.push_back({2, tag, tag, {c[o], c[o + 2], c[o + 3]}});
+            b.elements.push_back({2, tag, {c[o], c[o + 1], c[o + 2]}});
+            b.elements.push_back({2, tag, {c[o], c[o + 2], c[o + 3]}});
           } else {
             quad(tag, o, o + 1, o + 2, o + 3);
           }
         }
       }
 
-  std::string s = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n11\n";
-  s += "3 1 \"body\"\n";
-  const char* faces[] = {"x0", "x1", "y0", "y1", "z0", "z1"};
-  for (int f = 0; f < 6; ++f) s += fmt::format("2 {} \"{}\"\n", 11 + f, faces[f]);
+  auto names = box_region_names();
   const char* corners[] = {"p000", "p100", "p010", "p001"};
-  for (int p = 0; p < 4; ++p) s += fmt::format("0 {} \"{}\"\n", 21 + p, corners[p]);
-  s += fmt::format("$EndPhysicalNames\n$Nodes\n{}\n", x.size());
-  for (std::size_t a = 0; a < x.size(); ++a)
-    s += fmt::format("{} {} {} {}\n", a + 1, num(x[a].x()), num(x[a].y()), num(x[a].z()));
-  s += fmt::format("$EndNodes\n$Elements\n{}\n", elements.size());
-  for (std::size_t e = 0; e < elements.size(); ++e) {
-    s += fmt::format("{} {} 2 {} {}", e + 1, elements[e].type, elements[e].physical,
-                     elements[e].entity);
-    for (int v : elements[e].nodes) s += fmt::format(" {}", v);
-    s += "\n";
-  }
-  return s + "$EndElements\n";
+  for (int p = 0; p < 4; ++p) names.emplace_back(0, 21 + p, corners[p]);
+  return b.text(names);
 }
 
 /// A box [0,Lx] x [0,Ly] x [0,Lz] for Gmsh's built-in kernel, meshed into unstructured
