@@ -251,12 +251,7 @@ struct HardeningCylinder {
     return fmt::format(
         "mesh: {{file: ring.geo, order: 2}}\n"
         "materials:\n  - {{E: {}, nu: {}, plasticity: {}}}\n"
-        "boundary:\n"
-        "  - {{region: xsym, displacement: {{x: 0}}}}\n"
-        "  - {{region: ysym, displacement: {{y: 0}}}}\n"
-        "  - {{region: bottom, displacement: {{z: 0}}}}\n"
-        "  - {{region: top, displacement: {{z: 0}}}}\n"
-        "  - {{region: inner, pressure: \"{}*t\"}}\n"
+        "{}"
         "solver: {{scheme: {}, curve_form: {}, relaxation: {}, times: {}, tolerance: {}, "
         "max_iterations: {}, cutback: 0}}\n"
         "output:\n  probes:\n"
@@ -264,7 +259,8 @@ struct HardeningCylinder {
         "    - {{name: bore45, point: [{}, {}, 0.0]}}\n"
         "    - {{name: mid, point: [{}, 0, 0.0]}}\n"
         "    - {{name: outer, point: [0, {}, 0.0]}}\n",
-        num(E), num(nu), plasticity, num(0.8 * limit()), s.scheme, s.form, num(s.omega), times,
+        num(E), num(nu), plasticity,
+        ring_plane_strain_boundary("\"" + num(0.8 * limit()) + "*t\""), s.scheme, s.form, num(s.omega), times,
         num(tol), s.max_iterations, num(a), num(a / std::sqrt(2.0)), num(a / std::sqrt(2.0)),
         num(0.5 * (a + b)), num(b));
   }

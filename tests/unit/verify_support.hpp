@@ -306,6 +306,19 @@ inline std::vector<std::tuple<int, int, std::string>> box_region_names() {
   return names;
 }
 
+/// The boundary block of a case on quarter_ring_geo()'s ring in plane strain: symmetry rollers
+/// on xsym and ysym, both end faces held axially, and the internal pressure `pressure` (a
+/// number, or an expression in quotes) on the bore.
+inline std::string ring_plane_strain_boundary(const std::string& pressure) {
+  return "boundary:\n"
+         "  - {region: xsym, displacement: {x: 0}}\n"
+         "  - {region: ysym, displacement: {y: 0}}\n"
+         "  - {region: bottom, displacement: {z: 0}}\n"
+         "  - {region: top, displacement: {z: 0}}\n"
+         "  - {region: inner, pressure: " +
+         pressure + "}\n";
+}
+
 /// The cube [0, L]^3 cut into n^3 hexahedra (or each hexahedron into two wedges, or a mix: the
 /// wedge columns are those with i + j even), with every interior node moved by up to
 /// `distortion` times the grid step in each direction (deterministic pseudo-random). Quadratic
