@@ -117,6 +117,24 @@ Mesh.MeshSizeMax = h;
 """
 
 
+def cylinder_boundary_yaml(pressure: str) -> str:
+    """The hencky boundary block of the quarter cylinder (geo_cylinder's regions): `pressure`
+    (a number or a quoted expression) on the bore, symmetry rollers, both end faces held
+    axially."""
+    return f"""boundary:
+  - region: bore
+    pressure: {pressure}
+  - region: sym_x
+    displacement: {{x: 0}}
+  - region: sym_y
+    displacement: {{y: 0}}
+  - region: bottom
+    displacement: {{z: 0}}
+  - region: top
+    displacement: {{z: 0}}
+"""
+
+
 PROBLEMS = {
     "cantilever": dict(
         geo=geo_cantilever,
@@ -157,18 +175,7 @@ materials:
 """
         reactions = "[fixed]"
     else:
-        body = f"""boundary:
-  - region: bore
-    pressure: {CYL['p']!r}
-  - region: sym_x
-    displacement: {{x: 0}}
-  - region: sym_y
-    displacement: {{y: 0}}
-  - region: bottom
-    displacement: {{z: 0}}
-  - region: top
-    displacement: {{z: 0}}
-"""
+        body = cylinder_boundary_yaml(repr(CYL['p']))
         reactions = "[sym_x]"
     return head + body + f"""solver: {{steps: 1, end: 1.0, linear: {linear}}}
 output:

@@ -236,18 +236,7 @@ materials:
     E: {E!r}
     nu: {NU!r}
     plasticity: {material_yaml(variant)}
-boundary:
-  - region: bore
-    pressure: "{args.p_end!r}*t"
-  - region: sym_x
-    displacement: {{x: 0}}
-  - region: sym_y
-    displacement: {{y: 0}}
-  - region: bottom
-    displacement: {{z: 0}}
-  - region: top
-    displacement: {{z: 0}}
-solver: {{{', '.join(solver)}}}
+{rb.cylinder_boundary_yaml(f'"{args.p_end!r}*t"')}solver: {{{', '.join(solver)}}}
 output:
   every: {args.steps}
   probes:
