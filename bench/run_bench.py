@@ -117,6 +117,25 @@ Mesh.MeshSizeMax = h;
 """
 
 
+def prepare_run(args) -> tuple[Path, Path, str]:
+    """For a benchmark run: the hencky binary (--hencky, or the first build directory that has
+    one; bench/setup.sh builds build-bench), its environment (args.hencky_environ, with
+    --hencky-env), the work and results directories (created), and the run's time stamp."""
+    exe = args.hencky
+    if exe is None:
+        for d in ("build-bench", "build-f", "build-release", "build"):
+            if (ROOT / d / "hencky").exists():
+                exe = ROOT / d / "hencky"
+                break
+    if exe is None or not exe.exists():
+        raise SystemExit("no hencky binary: build it (bash bench/setup.sh) or pass --hencky")
+    args.hencky_environ = dict(os.environ, **dict(kv.split("=", 1) for kv in args.hencky_env))
+    work = args.work.resolve()
+    work.mkdir(parents=True, exist_ok=True)
+    args.results.mkdir(parents=True, exist_ok=True)
+    return exe.resolve(), work, dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+
+
 def cylinder_boundary_yaml(pressure: str) -> str:
     """The hencky boundary block of the quarter cylinder (geo_cylinder's regions): `pressure`
     (a number or a quoted expression) on the bore, symmetry rollers, both end faces held
@@ -1022,20 +1041,7 @@ def main():
         results = [json.loads(p.read_text()) for p in args.report]
         sources = [str(p) for p in args.report]
     else:
-        exe = args.hencky
-        if exe is None:
-            for d in ("build-f", "build-release", "build"):
-                if (ROOT / d / "hencky").exists():
-                    exe = ROOT / d / "hencky"
-                    break
-        if exe is None or not exe.exists():
-            raise SystemExit("no hencky binary: build it (see docs/performance.md) or pass --hencky")
-        exe = exe.resolve()
-        args.hencky_environ = dict(os.environ, **dict(kv.split("=", 1) for kv in args.hencky_env))
-        work = args.work.resolve()
-        work.mkdir(parents=True, exist_ok=True)
-        args.results.mkdir(parents=True, exist_ok=True)
-        stamp = dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+        exe, work, stamp = prepare_run(args)
 
         m = machine_info()
         print(f"machine: {m['cpu']}, {m['nproc']} cores, {m['memory_bytes'] / 2**30:.1f} GiB; hencky {exe}", flush=True)

@@ -49,7 +49,6 @@ Uses bench/run_bench.py's mesh, conversion and run functions. Standard library +
 from __future__ import annotations
 
 import argparse
-import datetime as dt
 import json
 import math
 import os
@@ -660,21 +659,7 @@ def main():
     if args.timeout and not shutil.which("timeout"):
         raise SystemExit("coreutils' timeout not found")
 
-    exe = args.hencky
-    if exe is None:
-        for d in ("build-bench", "build-f", "build-release", "build"):
-            if (ROOT / d / "hencky").exists():
-                exe = ROOT / d / "hencky"
-                break
-    if exe is None or not exe.exists():
-        raise SystemExit("no hencky binary: build it (cmake -S . -B build-bench -G Ninja "
-                         "-DCMAKE_BUILD_TYPE=Release && cmake --build build-bench) or pass --hencky")
-    exe = exe.resolve()
-    args.hencky_environ = dict(os.environ, **dict(kv.split("=", 1) for kv in args.hencky_env))
-    work = args.work.resolve()
-    work.mkdir(parents=True, exist_ok=True)
-    args.results.mkdir(parents=True, exist_ok=True)
-    stamp = dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    exe, work, stamp = rb.prepare_run(args)
     problem = register_geometry(args.layers, args.thickness)
 
     m = rb.machine_info()
