@@ -82,7 +82,8 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   summary["wall_seconds"] = {{"mesh", l.mesh_seconds},     {"setup", l.setup_seconds},
                              {"assembly", timings.assembly}, {"factorization", timings.factorization},
                              {"solve", timings.solve},       {"material", timings.material},
-                             {"output", timings.output},     {"total", since(t_start)}};
+                             {"output", timings.output},     {"contact", timings.contact},
+                             {"total", since(t_start)}};
   summary["peak_memory_bytes"] = peak_memory_bytes();
   writer.finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",

@@ -123,6 +123,28 @@ struct ProbeSpec {
   SourceLocation where;  ///< location of the point (key output.probes[i].point)
 };
 
+/// A frictionless contact of the body's nodes with a rigid surface (report section 3).
+struct ContactSpec {
+  enum class Shape { plane, sphere, cylinder, mesh };
+  std::string name;   ///< unique; letters, digits, '_' and '-' (it names history.csv columns)
+  std::string nodes;  ///< surface region (Gmsh physical surface) whose nodes may touch
+  Shape shape = Shape::plane;
+  Vec3 point = Vec3::Zero();    ///< plane: a point; cylinder: a point of the axis
+  Vec3 normal = Vec3::UnitZ();  ///< plane: unit normal from the rigid body to the deformable one
+  Vec3 axis = Vec3::UnitZ();    ///< cylinder: unit axis
+  Vec3 center = Vec3::Zero();   ///< sphere
+  double radius = 0;            ///< sphere, cylinder
+  std::filesystem::path file;   ///< mesh: absolute path of the STL file
+  double scale = 1.0;           ///< mesh: factor on the STL coordinates
+  std::array<std::optional<Expression>, 3> motion;  ///< translation over time; none: 0
+  std::optional<double> stiffness;  ///< penalty κ per node (force/length); none: auto
+  /// Allowed penetration (and gap of a pressed node), relative to the local element size.
+  double penetration = 1e-3;
+  SourceLocation where;          ///< the entry contact[i]
+  SourceLocation nodes_where;    ///< location of the region name
+  SourceLocation surface_where;  ///< location of the surface
+};
+
 struct SolverSpec {
   enum class Linear { direct, iterative, petsc };
   /// newton | variable-stiffness | initial-strain | initial-strain-stiffness | initial-stress
@@ -172,6 +194,7 @@ struct Case {
   TemperatureSpec temperature;
   std::vector<BoundarySpec> boundary;
   std::optional<std::array<Expression, 3>> body_force;
+  std::vector<ContactSpec> contact;
   SolverSpec solver;
   OutputSpec output;
 };

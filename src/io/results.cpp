@@ -75,9 +75,53 @@ std::vector<Vec3> region_reactions(const Model& model, const State& state) {
   for (const auto& r : model.reaction_regions()) {
     Vec3 f = Vec3::Zero();
     for (int n : r.region->nodes)
-      for (int d = 0; d < 3; ++d) f[d] += state.f_int[3 * n + d] - state.f_ext[3 * n + d];
+      for (int d = 0; d < 3; ++d)
+        f[d] += state.f_int[3 * n + d] - state.f_ext[3 * n + d] - state.f_contact[3 * n + d];
     out.push_back(f);
   }
+  return out;
+}
+
+std::vector<ContactTotals> contact_totals(const Model& model, const State& state) {
+  std::vector<ContactTotals> out;
+  const auto& bodies = model.contacts();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    ContactTotals t;
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      const ContactNode& s = state.contact[b][i];
+      t.max_penetration = std::max(t.max_penetration, -s.gap);
+      if (!s.contact) continue;
+      const Vec3 f = contact_force(s, contact_position(bodies[b].points[i], state.u));
+      ++t.nodes;
+      t.force += f.dot(s.normal);
+      t.resultant += f;  // Σ T̃ᵀF̃ over the mesh nodes is Σ F̃: each row of T̃ sums to 1
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+NodalContact nodal_contact(const Model& model, const State& state) {
+  NodalContact out;
+  const auto& bodies = model.contacts();
+  if (bodies.empty()) return out;
+  const int n = model.mesh().n_nodes();
+  out.pressure.assign(n, 0.0);
+  out.state.assign(n, 0.0);
+  out.gap.assign(n, 0.0);
+  std::vector<bool> seen(n, false);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      const ContactPoint& p = bodies[b].points[i];
+      const ContactNode& s = state.contact[b][i];
+      const double code = s.contact ? 1.0 : s.separation ? 2.0 : 0.0;
+      out.state[p.node] = std::max(out.state[p.node], code);
+      out.gap[p.node] = seen[p.node] ? std::min(out.gap[p.node], s.gap) : s.gap;
+      seen[p.node] = true;
+      if (s.contact)
+        out.pressure[p.node] +=
+            contact_force(s, contact_position(p, state.u)).dot(s.normal) / p.area;
+    }
   return out;
 }
 
@@ -120,8 +164,14 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
   }
   for (const auto& r : model_.reaction_regions())
     for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+  for (const auto& c : model_.contacts())
+    history_ << ",contact." << c.spec->name << ".force,contact." << c.spec->name << ".nodes";
   // Added after the contract's columns (scripts that read by name or position keep working).
   history_ << ",delta_sigma,delta_epsilon,factorizations,plastic_points";
+  for (const auto& c : model_.contacts()) {
+    for (auto ax : axes) history_ << ",contact." << c.spec->name << ".resultant." << ax;
+    history_ << ",contact." << c.spec->name << ".max_penetration";
+  }
   history_ << '\n';
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
 }
@@ -168,11 +218,25 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
       history_ << fmt::format(",{:.17g}", reactions[k][d]);
       reaction_json[model_.reaction_regions()[k].name][axes[d]] = reactions[k][d];
     }
+  const auto contacts = contact_totals(model_, state);
+  nlohmann::json contact_json = nlohmann::json::object();
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const ContactTotals& t = contacts[k];
+    history_ << fmt::format(",{:.17g},{}", t.force, t.nodes);
+    auto& j = contact_json[model_.contacts()[k].spec->name];
+    j["force"] = t.force;
+    j["nodes"] = t.nodes;
+    for (int d = 0; d < 3; ++d) j["resultant"][axes[d]] = t.resultant[d];
+    j["max_penetration"] = t.max_penetration;
+  }
   history_ << fmt::format(",{:.6e},{:.6e},{},{}", report.delta_sigma, report.delta_eps,
                           report.factorizations, report.plastic_points);
+  for (const ContactTotals& t : contacts)
+    history_ << fmt::format(",{:.17g},{:.17g},{:.17g},{:.6e}", t.resultant.x(), t.resultant.y(),
+                            t.resultant.z(), t.max_penetration);
   history_ << '\n';
   history_.flush();
-  final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", nlohmann::json::object()}};
+  final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
 
   const int every = model_.spec().output.every;
   if (!report.last && report.step % every != 0) return;
@@ -215,6 +279,10 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
         eps_p[6 * i + c] = plastic.strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
     eqp = plastic.equivalent;
   }
+  const NodalContact contact = nodal_contact(model_, state);
+  const auto or_zero = [&](const std::vector<double>& v) {
+    return v.empty() ? zero1 : std::span<const double>(v);
+  };
   const VtuField point_fields[] = {
       {"displacement", 3, state.u},
       {"stress", 6, stress},
@@ -222,8 +290,9 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
       {"temperature", 1, state.nodal_temperature},
       {"plastic_strain", 6, eps_p.empty() ? zero6 : std::span<const double>(eps_p)},
       {"equivalent_plastic_strain", 1, eqp.empty() ? zero1 : std::span<const double>(eqp)},
-      {"contact_pressure", 1, zero1},
-      {"contact_state", 1, zero1},
+      {"contact_pressure", 1, or_zero(contact.pressure)},
+      {"contact_state", 1, or_zero(contact.state)},
+      {"contact_gap", 1, or_zero(contact.gap)},
   };
   const VtuField cell_fields[] = {{"stress", 6, cell_stress},
                                   {"von_mises", 1, cell_vm},

@@ -35,8 +35,27 @@ struct ProbeValues {
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
                          const std::vector<Voigt>& nodal_stress, const NodalPlastic& plastic = {});
 
-/// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext).
+/// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext −
+/// F_contact).
 std::vector<Vec3> region_reactions(const Model& model, const State& state);
+
+/// What a contact reports per step: Σ of the nodes' normal forces, the nodes in contact, the
+/// resultant force of the support on the body and the largest penetration.
+struct ContactTotals {
+  double force = 0;
+  int nodes = 0;
+  Vec3 resultant = Vec3::Zero();
+  double max_penetration = 0;
+};
+std::vector<ContactTotals> contact_totals(const Model& model, const State& state);
+
+/// Nodal contact fields: pressure (normal force over the tributary area), state (0 free,
+/// 1 contact, 2 separating) and gap (signed distance from the surface; 0 off the contact
+/// regions). Empty vectors without contact.
+struct NodalContact {
+  std::vector<double> pressure, state, gap;
+};
+NodalContact nodal_contact(const Model& model, const State& state);
 
 class ResultWriter final : public StepObserver {
  public:

@@ -10,6 +10,7 @@
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
 #include "solve/anderson.hpp"
+#include "solve/contact_step.hpp"
 #include "solve/schemes.hpp"
 
 namespace hencky {
@@ -29,7 +30,7 @@ double norm(const std::vector<double>& v) {
 class StepSolver {
  public:
   StepSolver(const Model& m, LinearSolver& solver, Log& log, Timings& timings)
-      : m_(m), solver_(solver), log_(log), timings_(timings) {
+      : m_(m), solver_(solver), log_(log), timings_(timings), contact_(m, log) {
     values_.resize(m.assembler().pattern().nnz());
     plastic_ = m.has_plasticity();
     options_.kind = scheme_from_name(m.spec().solver.scheme);
@@ -87,6 +88,7 @@ class StepSolver {
     s.eps_ep.assign(n_pts, 0.0);
     s.eps_ep_max.assign(n_pts, 0.0);
     s.flowing.assign(n_pts, 0);
+    contact_.initial(s);
     return s;
   }
 
@@ -128,13 +130,16 @@ class StepSolver {
     m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
     m_.external_forces(t1, trial.f_ext);
     if (plastic_) begin_plastic_step(c, trial);
+    if (contact_.active()) contact_.begin(c, trial);
 
-    // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) −
-    // F_int(t): with γ = 1 the defect left by the previous step is corrected in full.
+    // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) +
+    // F_contact(t) − F_int(t): with γ = 1 the defect left by the previous step is corrected in
+    // full. The support's forces of the step are part of the residual (contact_residual), so
+    // that R(t) carries ⁽ᵗ⁾F as (3.6) asks.
     const double gamma = spec.correction;
     target_.resize(dofs.n_dofs());
     for (int i = 0; i < dofs.n_dofs(); ++i)
-      target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] - c.f_int[i]);
+      target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] + c.f_contact[i] - c.f_int[i]);
 
     std::vector<double>& rhs = rhs_;
     rhs.resize(dofs.n_free);
@@ -147,10 +152,13 @@ class StepSolver {
     anderson_.reset();
     for (iterations = 0;; ++iterations) {
       update_points(c, trial);
-      for (int i = 0; i < dofs.n_dofs(); ++i)
-        if (int k = dofs.eq[i]; k >= 0) rhs[k] = target_[i] - trial.f_int[i];
-      double r = 0;
-      for (double v : rhs) r += v * v;
+      if (contact_.active() && iterations > 0) {
+        // Report steps 3-4 with the iterate of the last solve.
+        const auto t0 = Clock::now();
+        contact_.update(c, trial);
+        timings_.contact += seconds_since(t0);
+      }
+      double r = residual_vector(trial);
       if (iterations == 0) {
         f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(r)});
         r = extrapolated_start(c, trial, r);
@@ -164,9 +172,16 @@ class StepSolver {
       } else {
         log_.detail("  iteration {}: relative residual {:.3e}", iterations, residual);
       }
+      if (contact_.active()) {
+        const ContactProgress& cp = contact_.progress();
+        log_.detail("    contact: {} nodes{}{}, largest |gap| {:.2e} of the allowed",
+                    cp.in_contact, cp.set_changed ? ", set changed" : "",
+                    cp.kappa_raised ? ", κ raised" : "", cp.worst_gap);
+      }
       const bool measures_ok =
           !plastic_ || (delta_sigma_ <= spec.tolerance && delta_eps_ <= spec.tolerance);
-      if (iterations >= 1 && residual <= spec.tolerance && measures_ok) {
+      const bool contact_ok = !contact_.active() || contact_.progress().converged();
+      if (iterations >= 1 && residual <= spec.tolerance && measures_ok && contact_ok) {
         // The reported residual is the true equilibrium defect F − F_int (γ only shifts the
         // target).
         residual = f_norm > 0 ? equilibrium_defect(trial) / f_norm : 0.0;
@@ -192,7 +207,8 @@ class StepSolver {
       if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
       const bool refactor = !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
                             (tangent_changed_ && (options_.matrix_per_iteration() ||
-                                                  (options_.matrix_per_step() && iterations <= 1)));
+                                                  (options_.matrix_per_step() && iterations <= 1))) ||
+                            contact_.matrix_stale(trial);
       if (refactor) assemble_and_factorize(trial);
       auto t0 = Clock::now();
       failed_in_linear_solver_ = true;
@@ -246,12 +262,7 @@ class StepSolver {
     const bool plain_changed = tangent_changed_;
     update_points(c, trial);
     tangent_changed_ = tangent_changed_ || plain_changed;
-    double r2x = 0;
-    for (int i = 0; i < dofs.n_dofs(); ++i)
-      if (int k = dofs.eq[i]; k >= 0) {
-        rhs_[k] = target_[i] - trial.f_int[i];
-        r2x += rhs_[k] * rhs_[k];
-      }
+    const double r2x = residual_vector(trial);
     log_.detail(
         "  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
         "(from the converged state {:.3e})",
@@ -271,8 +282,34 @@ class StepSolver {
   double equilibrium_defect(const State& s) const {
     double r = 0;
     for (int i = 0; i < m_.dofs().n_dofs(); ++i)
-      if (m_.dofs().eq[i] >= 0) r += (s.f_ext[i] - s.f_int[i]) * (s.f_ext[i] - s.f_int[i]);
+      if (m_.dofs().eq[i] >= 0) {
+        const double d = s.f_ext[i] + s.f_contact[i] - s.f_int[i];
+        r += d * d;
+      }
     return std::sqrt(r);
+  }
+
+  /// rhs_ = target + F_contact − F_int on the free dofs for the evaluated iterate (the
+  /// support's forces computed here, into trial.f_contact); returns its squared norm.
+  double residual_vector(State& trial) {
+    const auto& dofs = m_.dofs();
+    if (contact_.active()) {
+      const auto t0 = Clock::now();
+      contact_.forces(trial);
+      timings_.contact += seconds_since(t0);
+    }
+    double r2 = 0;
+    for (int i = 0; i < dofs.n_dofs(); ++i)
+      if (int k = dofs.eq[i]; k >= 0) {
+        rhs_[k] = target_[i] + trial.f_contact[i] - trial.f_int[i];
+        r2 += rhs_[k] * rhs_[k];
+      }
+    return r2;
+  }
+
+  /// The contact line of a converged step's log entry (empty without contact).
+  std::string contact_summary(const State& s) const {
+    return contact_.active() ? contact_.summary(s) : std::string();
   }
 
  private:
@@ -501,6 +538,7 @@ class StepSolver {
                   b.ke[(3 * bb + j) * nd + 3 * a + i] = b.ke[(3 * a + i) * nd + 3 * bb + j];
         },
         values_, scratch_);
+    if (contact_.active()) contact_.add_matrix(trial, values_);
     timings_.assembly += seconds_since(t0);
     t0 = Clock::now();
     if (!analyzed_) {
@@ -548,6 +586,7 @@ class StepSolver {
   double last_dt_ = 0;
   // solver.acceleration: anderson
   Anderson anderson_{5};
+  ContactStep contact_;
   std::vector<double> free_u_;
 };
 
@@ -628,6 +667,8 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
       log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}", report.step,
                report.time, report.iterations, report.residual);
     }
+    if (const std::string line = stepper.contact_summary(committed); !line.empty())
+      log.info("           {}", line);
     const auto t0 = Clock::now();
     observer.step_done(report, committed);
     timings.output += seconds_since(t0);

@@ -28,6 +28,9 @@ struct State {
   std::vector<double> eps_ep;          ///< ε̃^{e+p}, the scalar the schemes advance
   std::vector<double> eps_ep_max;      ///< the largest ε̃^{e+p} reached
   std::vector<std::uint8_t> flowing;   ///< 1: flowed plastically in the step that ended here
+  // Contact (report section 3):
+  std::vector<double> f_contact;  ///< forces of the rigid supports on the nodes, 3 per node
+  std::vector<std::vector<ContactNode>> contact;  ///< per contact, per contact point
 };
 
 struct StepReport {
@@ -44,6 +47,7 @@ struct StepReport {
 
 struct Timings {
   double assembly = 0, factorization = 0, solve = 0, material = 0, output = 0;
+  double contact = 0;  ///< contact search and state updates
 };
 
 class StepObserver {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "contact/stl_surface.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
 #include "io/suggest.hpp"
@@ -41,6 +42,7 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   bind_boundary();
   bind_temperature();
   bind_outputs();
+  bind_contact();
   point_offset_.assign(mesh_.cells.size() + 1, 0);
   for (int e = 0; e < mesh_.cells.size(); ++e)
     point_offset_[e + 1] = point_offset_[e] + reference_table(mesh_.cells.type[e]).n_points;
@@ -258,6 +260,66 @@ void Model::bind_temperature() {
                      fmt::format("{} nodes of the mesh have no temperature in this file, e.g. "
                                  "Gmsh node {}",
                                  n_missing, first_missing));
+}
+
+void Model::bind_contact() {
+  std::vector<int> node_point(mesh_.n_nodes());
+  for (const ContactSpec& spec : case_->contact) {
+    const Region& region = find_region(spec.nodes, spec.nodes_where, 2, 2, "physical surface");
+    ContactBody body;
+    body.spec = &spec;
+    switch (spec.shape) {
+      case ContactSpec::Shape::plane: body.surface = make_plane(spec.point, spec.normal); break;
+      case ContactSpec::Shape::sphere: body.surface = make_sphere(spec.center, spec.radius); break;
+      case ContactSpec::Shape::cylinder:
+        body.surface = make_cylinder(spec.point, spec.axis, spec.radius);
+        break;
+      case ContactSpec::Shape::mesh: body.surface = make_stl_surface(spec.file, spec.scale); break;
+    }
+    body.points = contact_points(mesh_, region, spec.nodes_where);
+
+    // Stiffness scale of each point for κ = auto: tr(K_aa)/3 of the elastic matrix at T_ref,
+    // Σ over the cells at the node of ∫ (λ + 4μ)/3 |∇N_a|² dV.
+    std::fill(node_point.begin(), node_point.end(), -1);
+    for (std::size_t i = 0; i < body.points.size(); ++i)
+      node_point[body.points[i].node] = static_cast<int>(i);
+    CellKinematics kin;
+    Vec3 x[max_cell_nodes];
+    for (int e = 0; e < mesh_.cells.size(); ++e) {
+      const auto nodes = mesh_.cells.nodes(e);
+      if (std::none_of(nodes.begin(), nodes.end(), [&](int n) { return node_point[n] >= 0; }))
+        continue;
+      for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
+      kin.compute(reference_table(mesh_.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
+      const ElasticConstants k = material_of(e).at(reference_temperature_);
+      const double c = (k.lame_lambda() + 4 * k.shear_modulus()) / 3;
+      for (int q = 0; q < kin.points; ++q)
+        for (std::size_t a = 0; a < nodes.size(); ++a)
+          if (const int i = node_point[nodes[a]]; i >= 0) {
+            const double* g = kin.grad(q) + 3 * a;
+            body.points[i].stiffness += c * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * kin.dv[q];
+          }
+    }
+
+    // A node that starts inside the rigid body by more than the allowed penetration is a
+    // set-up error (the surface or the mesh is misplaced), not something to push out.
+    const Vec3 m0 = body.motion(0);
+    for (std::size_t i = 0; i < body.points.size(); ++i) {
+      const double d = body.surface->signed_distance(body.points[i].x - m0);
+      if (d < -body.allowed_gap(static_cast<int>(i)))
+        throw InputError(
+            spec.surface_where,
+            fmt::format("contact '{}': node {} of region '{}' at ({:g}, {:g}, {:g}) starts "
+                        "inside the rigid surface, {:.3g} below it (allowed: {:.3g}, "
+                        "'penetration' {:g} of the local element size); move the surface or "
+                        "the mesh so that they do not overlap at t = 0",
+                        spec.name, mesh_.node_tag[body.points[i].node], region.name,
+                        mesh_.x[body.points[i].node].x(), mesh_.x[body.points[i].node].y(),
+                        mesh_.x[body.points[i].node].z(), -d, body.allowed_gap(static_cast<int>(i)),
+                        spec.penetration));
+    }
+    contacts_.push_back(std::move(body));
+  }
 }
 
 void Model::bind_outputs() {

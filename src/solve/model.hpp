@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact.hpp"
 #include "io/case.hpp"
 #include "io/log.hpp"
 #include "linalg/assembler.hpp"
@@ -64,6 +65,8 @@ class Model {
   const std::vector<ReactionRegion>& reaction_regions() const { return reactions_; }
   double reference_temperature() const { return reference_temperature_; }
   bool has_temperature() const { return case_->temperature.given; }
+  /// The case's contacts, bound to the mesh (empty without a contact section).
+  const std::vector<ContactBody>& contacts() const { return contacts_; }
   /// Some material has a hardening curve.
   bool has_plasticity() const;
 
@@ -80,6 +83,7 @@ class Model {
   void bind_boundary();
   void bind_temperature();
   void bind_outputs();
+  void bind_contact();
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 
@@ -95,6 +99,7 @@ class Model {
   std::vector<FaceLoad> face_loads_;
   std::vector<Probe> probes_;
   std::vector<ReactionRegion> reactions_;
+  std::vector<ContactBody> contacts_;
   std::vector<int> temperature_row_;  ///< row of the temperature file for each node
   double reference_temperature_ = 0;
 };

@@ -91,11 +91,11 @@ ex_bad "bad input: a uniaxial curve whose plastic strain does not increase" \
 expect "bad input: hencky check reports the bad curve too" 1 \
   "bad-curve\.yaml:12:59: 'materials\[0\]\.plasticity\.curve\.table\[0\]': point 2" -- check "$bd/bad-curve.yaml"
 
-# --- features of later versions
+# --- contact
 cp "$bd/good.yaml" "$bd/contact.yaml"
-printf 'contact:\n  - name: floor\n    nodes: clamp\n    surface:\n      plane: {point: [0, 0, 0], normal: [0, 0, 1]}\n' >>"$bd/contact.yaml"
-ex_bad "bad input: contact is not available in this version" \
-  "contact\.yaml:19:[0-9]+: 'contact': contact is not available" "$bd/contact.yaml"
+printf 'contact:\n  - name: floor\n    nodes: clamp\n    surface:\n      plane: {point: [0, 0, 0.5], normal: [0, 0, 1]}\n' >>"$bd/contact.yaml"
+ex_bad "bad input: a contact node that starts inside the rigid surface" \
+  "contact\.yaml:2[0-9]:[0-9]+: 'contact\[0\]\.surface': contact 'floor': node [0-9]+ of region 'clamp' .* starts inside the rigid surface" "$bd/contact.yaml"
 
 # --- YAML syntax
 ex_variant yaml-flow 's/^mesh: \{file: beam\.geo, order: 2\}/mesh: {file: beam.geo, order: 2/'

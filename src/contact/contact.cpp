@@ -1,0 +1,182 @@
+#include "contact/contact.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <unordered_map>
+
+#include "fem/geometry.hpp"
+#include "fem/reference_element.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hencky {
+
+const char* branch_name(ContactBranch b) {
+  switch (b) {
+    case ContactBranch::stays_inside: return "stays inside";
+    case ContactBranch::released: return "released";
+    case ContactBranch::held_outside: return "held outside";
+    case ContactBranch::back_in: return "back in";
+    case ContactBranch::stays_separated: return "stays separated";
+    case ContactBranch::closes: return "closes";
+    case ContactBranch::stays_free: return "stays free";
+  }
+  return "?";
+}
+
+Vec3 contact_force(const ContactNode& s, const Vec3& r) {
+  if (!s.contact) return Vec3::Zero();
+  return (s.force.dot(s.normal) + s.kappa * (s.point - r).dot(s.normal)) * s.normal;
+}
+
+Mat3 contact_matrix(const ContactNode& s) {
+  if (!s.contact) return Mat3::Zero();
+  return s.kappa * s.normal * s.normal.transpose();
+}
+
+ContactBranch update_contact_node(ContactNode& s, const ContactNode& committed, const Vec3& r_t,
+                                  const Vec3& r_k, const SurfaceMotion& where) {
+  const RigidSurface& surface = *where.surface;
+  // The node in the surface's own frame at t + Δt and at t (see the header on moving surfaces).
+  const Vec3 p_k = r_k - where.m1, p_t = r_t - where.m0;
+  s.gap = surface.signed_distance(p_k);
+  const int side = s.gap < 0 ? -1 : 1;
+  const auto hold_at = [&](const SurfacePoint& q) {
+    s.contact = true;
+    s.separation = false;
+    s.point = q.x + where.m1;
+    s.normal = q.n;
+  };
+  if (s.contact) {
+    // (3.4): the augmented update of the reaction with the penetration left by the solve.
+    s.force = (s.force.dot(s.normal) + s.kappa * (s.point - r_k).dot(s.normal)) * s.normal;
+    if (side == -1) {
+      hold_at(surface.nearest(p_k));
+      return ContactBranch::stays_inside;
+    }
+    if (s.force.dot(s.normal) < 0) {
+      s.contact = false;
+      s.separation = committed.contact;
+      // A node out of contact carries no reaction ((3.5) for a separating node; the report
+      // leaves F of a node released in the step it closed in unstated: zero as well).
+      s.force = Vec3::Zero();
+      return ContactBranch::released;
+    }
+    hold_at(surface.nearest(p_k));
+    return ContactBranch::held_outside;
+  }
+  s.force = Vec3::Zero();  // (3.5)
+  if (committed.contact) {
+    if (side == -1) {
+      hold_at(surface.nearest(p_t));
+      return ContactBranch::back_in;
+    }
+    s.separation = true;
+    return ContactBranch::stays_separated;
+  }
+  if (auto q = surface.intersection(p_t, p_k)) {
+    hold_at(*q);
+    return ContactBranch::closes;
+  }
+  s.separation = false;
+  return ContactBranch::stays_free;
+}
+
+Vec3 ContactBody::motion(double t) const {
+  Vec3 m = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (spec->motion[k]) m[k] = spec->motion[k]->eval_checked(0, 0, 0, t, "contact motion");
+  return m;
+}
+
+double ContactBody::initial_kappa(int i) const {
+  return spec->stiffness ? *spec->stiffness : auto_kappa_factor * points[i].stiffness;
+}
+
+
+
+// ---------------------------------------------------------------------------------------------
+// Contact points of a region
+
+namespace {
+
+/// Mid-edge nodes of a quadratic face and the corners of their edges (Gmsh ordering:
+/// fem/reference_element.hpp). Empty for linear faces.
+struct FaceEdge {
+  int mid, a, b;
+};
+std::span<const FaceEdge> quadratic_edges(CellType t) {
+  static const FaceEdge tri6[] = {{3, 0, 1}, {4, 1, 2}, {5, 2, 0}};
+  static const FaceEdge quad8[] = {{4, 0, 1}, {5, 1, 2}, {6, 2, 3}, {7, 3, 0}};
+  if (t == CellType::tri6) return tri6;
+  if (t == CellType::quad8) return quad8;
+  return {};
+}
+
+}  // namespace
+
+std::vector<ContactPoint> contact_points(const Mesh& mesh, const Region& region,
+                                         const SourceLocation& where) {
+  constexpr double alpha = quadratic_face_alpha;
+  std::unordered_map<int, int> index;  // mesh node -> contact point
+  std::vector<ContactPoint> pts(region.nodes.size());
+  for (std::size_t i = 0; i < region.nodes.size(); ++i) {
+    index.emplace(region.nodes[i], static_cast<int>(i));
+    pts[i].node = region.nodes[i];
+    pts[i].term_node[0] = region.nodes[i];
+  }
+  std::vector<double> size2(pts.size(), 0.0);
+  std::vector<int> n_faces(pts.size(), 0);
+  for (int f : region.cells) {
+    const auto nodes = mesh.faces.nodes(f);
+    const CellType type = mesh.faces.type[f];
+    const auto edges = quadratic_edges(type);
+    for (const FaceEdge& e : edges) {  // ũ_m = (u_m − α(u_a + u_b)) / (1 − 2α)
+      ContactPoint& p = pts[index.at(nodes[e.mid])];
+      p.terms = 3;
+      p.term_node[1] = nodes[e.a];
+      p.term_node[2] = nodes[e.b];
+      p.term_coef[0] = 1 / (1 - 2 * alpha);
+      p.term_coef[1] = p.term_coef[2] = -alpha / (1 - 2 * alpha);
+    }
+    // ∫Ñ_i dA, Ñ_corner = N_corner + α Σ N_m over the face's edges at the corner,
+    // Ñ_m = (1 − 2α) N_m.
+    const ReferenceTable& tab = reference_table(type);
+    Vec3 x[max_cell_nodes];
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    double w[max_cell_nodes] = {};
+    double area = 0;
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double da =
+          tab.weights[q] * face_normal(tab, q, std::span<const Vec3>(x, nodes.size())).norm();
+      const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+      double Nt[max_cell_nodes];
+      for (std::size_t a = 0; a < nodes.size(); ++a) Nt[a] = N[a];
+      for (const FaceEdge& e : edges) {
+        Nt[e.mid] = (1 - 2 * alpha) * N[e.mid];
+        Nt[e.a] += alpha * N[e.mid];
+        Nt[e.b] += alpha * N[e.mid];
+      }
+      for (std::size_t a = 0; a < nodes.size(); ++a) w[a] += Nt[a] * da;
+      area += da;
+    }
+    if (!(area > 0))
+      throw InputError(where, fmt::format("face {} of region '{}' has zero area",
+                                          mesh.faces.tag[f], region.name));
+    for (std::size_t a = 0; a < nodes.size(); ++a) {
+      const int i = index.at(nodes[a]);
+      pts[i].area += w[a];
+      size2[i] += area;
+      ++n_faces[i];
+    }
+  }
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ContactPoint& p = pts[i];
+    p.size = n_faces[i] > 0 ? std::sqrt(size2[i] / n_faces[i]) : 0.0;
+    p.x = Vec3::Zero();
+    for (int k = 0; k < p.terms; ++k) p.x += p.term_coef[k] * mesh.x[p.term_node[k]];
+  }
+  return pts;
+}
+
+}  // namespace hencky

@@ -1,0 +1,178 @@
+#include "solve/contact_step.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace hencky {
+
+ContactStep::ContactStep(const Model& m, Log& log) : m_(&m), log_(&log) {
+  const auto& bodies = m.contacts();
+  m0_.assign(bodies.size(), Vec3::Zero());
+  m1_.assign(bodies.size(), Vec3::Zero());
+  flips_.resize(bodies.size());
+  prev_gap_.resize(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    flips_[b].assign(bodies[b].points.size(), 0);
+    prev_gap_[b].assign(bodies[b].points.size(), NAN);
+  }
+}
+
+Vec3 ContactStep::position(int body, int i, const std::vector<double>& u) const {
+  return contact_position(m_->contacts()[body].points[i], u);
+}
+
+void ContactStep::initial(State& s) const {
+  const auto& bodies = m_->contacts();
+  s.f_contact.assign(m_->dofs().n_dofs(), 0.0);
+  s.contact.assign(bodies.size(), {});
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const ContactBody& body = bodies[b];
+    const Vec3 m0 = body.motion(0);
+    auto& states = s.contact[b];
+    states.resize(body.points.size());
+    for (std::size_t i = 0; i < body.points.size(); ++i) {
+      ContactNode& n = states[i];
+      n.kappa = body.initial_kappa(static_cast<int>(i));
+      const Vec3 p = body.points[i].x - m0;
+      n.gap = body.surface->signed_distance(p);
+      const SurfacePoint q = body.surface->nearest(p);
+      n.point = q.x + m0;
+      n.normal = q.n;
+      // Touching: within round-off of the surface (Model rejects deeper starts).
+      n.contact = n.gap <= 1e-9 * body.points[i].size;
+    }
+  }
+}
+
+void ContactStep::begin(const State& c, State& trial) {
+  const auto& bodies = m_->contacts();
+  trial.contact = c.contact;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    m0_[b] = bodies[b].motion(c.time);
+    m1_[b] = bodies[b].motion(trial.time);
+    for (ContactNode& n : trial.contact[b]) n.point += m1_[b] - m0_[b];
+    std::fill(flips_[b].begin(), flips_[b].end(), 0);
+    std::fill(prev_gap_[b].begin(), prev_gap_[b].end(), NAN);
+  }
+  progress_ = ContactProgress{};
+}
+
+void ContactStep::forces(State& trial) const {
+  const auto& bodies = m_->contacts();
+  trial.f_contact.assign(m_->dofs().n_dofs(), 0.0);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      const ContactNode& s = trial.contact[b][i];
+      if (!s.contact) continue;
+      const Vec3 f = contact_force(s, position(static_cast<int>(b), static_cast<int>(i), trial.u));
+      // f = T̃ᵀ F̃: the transformed node's force spread on the mesh nodes it stands for.
+      const ContactPoint& p = bodies[b].points[i];
+      for (int k = 0; k < p.terms; ++k)
+        for (int d = 0; d < 3; ++d) trial.f_contact[3 * p.term_node[k] + d] += p.term_coef[k] * f[d];
+    }
+}
+
+void ContactStep::add_matrix(const State& trial, std::span<double> values) {
+  const auto& bodies = m_->contacts();
+  const auto& eq = m_->dofs().eq;
+  const auto& pattern = m_->assembler().pattern();
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      const ContactNode& s = trial.contact[b][i];
+      if (!s.contact) continue;
+      const Mat3 G = contact_matrix(s);
+      const ContactPoint& p = bodies[b].points[i];
+      // T̃ᵀ G T̃ over the (up to three) mesh nodes of the point; one triangle of the symmetric
+      // matrix: each global pair once, from the ordering in which its row is the smaller.
+      for (int j = 0; j < p.terms; ++j)
+        for (int k = 0; k < p.terms; ++k)
+          for (int dj = 0; dj < 3; ++dj)
+            for (int dk = 0; dk < 3; ++dk) {
+              const int gj = eq[3 * p.term_node[j] + dj], gk = eq[3 * p.term_node[k] + dk];
+              if (gj < 0 || gk < 0 || gj > gk) continue;
+              values[pattern.find(gj, gk)] += p.term_coef[j] * p.term_coef[k] * G(dj, dk);
+            }
+    }
+  assembled_ = trial.contact;
+  assembled_any_ = true;
+}
+
+bool ContactStep::matrix_stale(const State& trial) const {
+  if (!active()) return false;
+  if (!assembled_any_) return true;
+  for (std::size_t b = 0; b < trial.contact.size(); ++b)
+    for (std::size_t i = 0; i < trial.contact[b].size(); ++i) {
+      const ContactNode &s = trial.contact[b][i], &a = assembled_[b][i];
+      if (s.contact != a.contact) return true;
+      if (s.contact && (s.kappa != a.kappa || (s.normal - a.normal).norm() > 1e-3)) return true;
+    }
+  return false;
+}
+
+ContactProgress ContactStep::update(const State& c, State& trial) {
+  const auto& bodies = m_->contacts();
+  ContactProgress pr;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const ContactBody& body = bodies[b];
+    const SurfaceMotion where{body.surface.get(), m0_[b], m1_[b]};
+    for (std::size_t i = 0; i < body.points.size(); ++i) {
+      const int ii = static_cast<int>(i);
+      ContactNode& s = trial.contact[b][i];
+      const bool was_contact = s.contact, was_separation = s.separation;
+      update_contact_node(s, c.contact[b][i], position(static_cast<int>(b), ii, c.u),
+                          position(static_cast<int>(b), ii, trial.u), where);
+      if (s.contact != was_contact || s.separation != was_separation) pr.set_changed = true;
+      if (s.contact != was_contact && ++flips_[b][i] > max_flips)
+        throw SolveError(fmt::format(
+            "contact '{}': node {} changed between contact and no contact {} times in this "
+            "step (the contact set oscillates)",
+            body.spec->name, m_->mesh().node_tag[body.points[i].node], flips_[b][i]));
+      pr.max_penetration = std::max(pr.max_penetration, -s.gap);
+      if (!s.contact) {
+        prev_gap_[b][i] = NAN;
+        continue;
+      }
+      ++pr.in_contact;
+      const double allowed = body.allowed_gap(ii), g = std::abs(s.gap);
+      pr.worst_gap = std::max(pr.worst_gap, allowed > 0 ? g / allowed : 0.0);
+      // κ strategy (auto): the augmented update (3.4) removes the fraction κ/(κ + k) of the
+      // gap per iteration, k the stiffness the node meets. Where the gap is still above the
+      // allowed one and did not at least halve since the last update, κ is too small for the
+      // node: raise it tenfold (up to 1e4 times its start).
+      if (!body.spec->stiffness && g > allowed && std::isfinite(prev_gap_[b][i]) &&
+          g > 0.5 * prev_gap_[b][i] && s.kappa < 1e4 * body.initial_kappa(ii)) {
+        s.kappa *= 10;
+        pr.kappa_raised = true;
+      }
+      prev_gap_[b][i] = g;
+    }
+  }
+  progress_ = pr;
+  return pr;
+}
+
+std::string ContactStep::summary(const State& s) const {
+  std::string out;
+  const auto& bodies = m_->contacts();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    int n = 0;
+    double force = 0, pen = 0, pen_rel = 0;
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      const ContactNode& c = s.contact[b][i];
+      pen = std::max(pen, -c.gap);
+      pen_rel = std::max(pen_rel, -c.gap / bodies[b].points[i].size);
+      if (!c.contact) continue;
+      ++n;
+      force += contact_force(c, position(static_cast<int>(b), static_cast<int>(i), s.u))
+                   .dot(c.normal);
+    }
+    if (!out.empty()) out += "; ";
+    out += fmt::format("contact '{}': {} nodes, normal force {:.4g}, largest penetration {:.2e} "
+                       "({:.1e} of the element size)",
+                       bodies[b].spec->name, n, force, pen, pen_rel);
+  }
+  return out;
+}
+
+}  // namespace hencky

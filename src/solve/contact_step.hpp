@@ -1,0 +1,71 @@
+#pragma once
+// The contact part of a step (report section 3) for the step loop of analysis.cpp: the
+// initial states (3.1), the support's forces in the residual and G in the matrix (3.2)/(3.3),
+// the force and state update after each solve (3.4)/(3.5) and step 4, the κ strategy, and the
+// checks that end a step: no node changed its state, the gaps of the nodes in contact are
+// within the allowed penetration, and the contact set does not oscillate.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "io/log.hpp"
+#include "solve/analysis.hpp"
+
+namespace hencky {
+
+/// How the contact stands after an update.
+struct ContactProgress {
+  bool set_changed = false;  ///< some node changed Contact or Separation in this update
+  bool kappa_raised = false; ///< the κ strategy raised some node's κ
+  double worst_gap = 0;      ///< largest |gap| / allowed over the nodes in contact (≤ 1: done)
+  double max_penetration = 0;  ///< largest penetration (−gap) of any node, in length units
+  int in_contact = 0;          ///< nodes in contact, over all surfaces
+  bool converged() const { return !set_changed && worst_gap <= 1; }
+};
+
+class ContactStep {
+ public:
+  ContactStep(const Model& m, Log& log);
+  bool active() const { return !m_->contacts().empty(); }
+
+  /// The states at t = 0: nodes that touch a surface (to round-off, or within the allowed
+  /// penetration) start in Contact with zero force, so that a body resting on a support is
+  /// held from the first solve; all others are free.
+  void initial(State& s) const;
+  /// (3.1): the iteration starts from the committed states, with the contact points moved
+  /// with their surfaces from t to t + Δt.
+  void begin(const State& c, State& trial);
+  /// The support's forces at the current iterate into trial.f_contact (3 per mesh node).
+  void forces(State& trial) const;
+  /// Adds G of every node in contact into the upper-triangle matrix values and remembers
+  /// what it added (matrix_stale compares against it).
+  void add_matrix(const State& trial, std::span<double> values);
+  /// The matrix last assembled no longer holds the G of the current states: a node entered
+  /// or left contact, its κ changed, or its normal turned by more than 1e-3 rad.
+  bool matrix_stale(const State& trial) const;
+  /// Report steps 3-4 for every node after a solve, then the κ strategy. Throws SolveError
+  /// when the contact set oscillates (a node changed state more than max_flips times in the
+  /// step): the step is then cut back.
+  ContactProgress update(const State& c, State& trial);
+  /// The progress of the last update (or of begin(): all quiet).
+  const ContactProgress& progress() const { return progress_; }
+  /// One line per surface for the log of a converged step.
+  std::string summary(const State& s) const;
+
+  static constexpr int max_flips = 6;
+
+ private:
+  Vec3 position(int body, int i, const std::vector<double>& u) const;
+
+  const Model* m_;
+  Log* log_;
+  std::vector<Vec3> m0_, m1_;  ///< translation of each surface at t and t + Δt
+  // Per surface and point, during a step:
+  std::vector<std::vector<int>> flips_;         ///< changes of Contact
+  std::vector<std::vector<double>> prev_gap_;   ///< |gap| at the previous update (in contact)
+  std::vector<std::vector<ContactNode>> assembled_;  ///< the states whose G is in the matrix
+  bool assembled_any_ = false;
+  ContactProgress progress_;
+};
+
+}  // namespace hencky

@@ -1,0 +1,341 @@
+// Contact with rigid surfaces (report section 3): the analytic surfaces, every branch of the
+// node state machine, and whole analyses whose answer is known exactly: a block pressed by a
+// rigid plane (uniform stress), the same block released (the Separation branch), a bar heated
+// against a wall after its gap closes.
+#include <gtest/gtest.h>
+
+#include "contact/contact.hpp"
+#include "contact/rigid_surface.hpp"
+#include "io/results.hpp"
+#include "verify_support.hpp"
+
+namespace hencky {
+namespace {
+
+using verify::num;
+
+// ------------------------------------------------------------------------------------------
+// Analytic surfaces
+
+TEST(RigidSurface, PlaneDistanceNearestAndEntry) {
+  const auto s = make_plane(Vec3(0, 0, 1), Vec3(0, 0, 2));  // normal normalized
+  EXPECT_DOUBLE_EQ(s->signed_distance(Vec3(3, 4, 1.5)), 0.5);
+  EXPECT_EQ(s->side(Vec3(0, 0, 0.999)), -1);
+  EXPECT_EQ(s->side(Vec3(0, 0, 1)), 1);  // on the surface counts as outside
+  const SurfacePoint q = s->nearest(Vec3(3, 4, -1));
+  EXPECT_TRUE(q.x.isApprox(Vec3(3, 4, 1)));
+  EXPECT_TRUE(q.n.isApprox(Vec3(0, 0, 1)));
+  const auto hit = s->intersection(Vec3(0, 0, 3), Vec3(2, 0, -1));
+  ASSERT_TRUE(hit);
+  EXPECT_TRUE(hit->x.isApprox(Vec3(1, 0, 1)));
+  EXPECT_FALSE(s->intersection(Vec3(0, 0, 3), Vec3(0, 0, 2)));   // stays outside
+  EXPECT_FALSE(s->intersection(Vec3(0, 0, 0), Vec3(0, 0, -1)));  // starts inside
+  const auto at_start = s->intersection(Vec3(0, 0, 1), Vec3(0, 0, 0.5));
+  ASSERT_TRUE(at_start);
+  EXPECT_TRUE(at_start->x.isApprox(Vec3(0, 0, 1)));
+}
+
+TEST(RigidSurface, SphereDistanceNearestAndEntry) {
+  const auto s = make_sphere(Vec3(1, 0, 0), 2);
+  EXPECT_DOUBLE_EQ(s->signed_distance(Vec3(1, 0, 5)), 3);
+  EXPECT_DOUBLE_EQ(s->signed_distance(Vec3(1, 1, 0)), -1);
+  const SurfacePoint q = s->nearest(Vec3(1, 0, 7));
+  EXPECT_TRUE(q.x.isApprox(Vec3(1, 0, 2)));
+  EXPECT_TRUE(q.n.isApprox(Vec3(0, 0, 1)));
+  // Along the z axis from z = 5 to z = −5: enters at z = 2.
+  const auto hit = s->intersection(Vec3(1, 0, 5), Vec3(1, 0, -5));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->x.z(), 2, 1e-14);
+  EXPECT_TRUE(hit->n.isApprox(Vec3(0, 0, 1)));
+  EXPECT_FALSE(s->intersection(Vec3(4, 0, 5), Vec3(4, 0, -5)));  // misses (x = 4 > 1 + 2)
+  EXPECT_FALSE(s->intersection(Vec3(1, 0, 5), Vec3(1, 0, 2.5)));  // stops short
+  EXPECT_FALSE(s->intersection(Vec3(1, 0, 0), Vec3(1, 0, 5)));    // leaves
+}
+
+TEST(RigidSurface, CylinderDistanceNearestAndEntry) {
+  const auto s = make_cylinder(Vec3(0, 0, 0), Vec3(0, 1, 0), 1);  // rod along y
+  EXPECT_DOUBLE_EQ(s->signed_distance(Vec3(0, 50, 3)), 2);
+  const SurfacePoint q = s->nearest(Vec3(3, 7, 4));
+  EXPECT_TRUE(q.x.isApprox(Vec3(0.6, 7, 0.8)));
+  EXPECT_TRUE(q.n.isApprox(Vec3(0.6, 0, 0.8)));
+  const auto hit = s->intersection(Vec3(0, 2, 3), Vec3(0, 9, -3));
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->x.z(), 1, 1e-14);
+  EXPECT_NEAR(hit->x.y(), 2 + 7.0 * 2 / 6, 1e-14);
+  EXPECT_FALSE(s->intersection(Vec3(0, 0, 3), Vec3(0, 9, 3)));  // parallel to the axis
+}
+
+// ------------------------------------------------------------------------------------------
+// The node state machine, branch by branch, on the plane z = 0 (rigid body below)
+
+struct Machine {
+  std::unique_ptr<RigidSurface> plane = make_plane(Vec3::Zero(), Vec3::UnitZ());
+  SurfaceMotion where{plane.get(), Vec3::Zero(), Vec3::Zero()};
+  ContactNode in_contact(double force) const {
+    ContactNode s;
+    s.contact = true;
+    s.force = force * Vec3::UnitZ();
+    s.point = Vec3(0.1, 0.2, 0);
+    s.normal = Vec3::UnitZ();
+    s.kappa = 100;
+    return s;
+  }
+};
+
+TEST(ContactStateMachine, ForceAndMatrixOfANodeInContact) {
+  Machine m;
+  ContactNode s = m.in_contact(5);
+  // (3.2): force (F + κ(r* − r)·n) n, G = κ n nᵀ; a penetration of 0.01 adds κ·0.01.
+  const Vec3 f = contact_force(s, Vec3(0.3, 0.2, -0.01));
+  EXPECT_TRUE(f.isApprox(Vec3(0, 0, 6)));
+  EXPECT_TRUE(contact_matrix(s).isApprox(Mat3(Vec3(0, 0, 100).asDiagonal())));
+  s.contact = false;  // (3.3): no force, no matrix
+  EXPECT_TRUE(contact_force(s, Vec3(0, 0, -1)).isZero());
+  EXPECT_TRUE(contact_matrix(s).isZero());
+}
+
+TEST(ContactStateMachine, InContactAndStillInsideStaysAtTheNearestPoint) {
+  Machine m;
+  ContactNode s = m.in_contact(5), committed = m.in_contact(5);
+  const auto b = update_contact_node(s, committed, Vec3(0.1, 0.2, 0), Vec3(0.4, 0.2, -0.02),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::stays_inside);
+  EXPECT_TRUE(s.contact);
+  EXPECT_FALSE(s.separation);
+  EXPECT_NEAR(s.force.z(), 5 + 100 * 0.02, 1e-12);  // (3.4)
+  EXPECT_TRUE(s.point.isApprox(Vec3(0.4, 0.2, 0)));  // nearestPoint(r)
+  EXPECT_NEAR(s.gap, -0.02, 1e-15);
+}
+
+TEST(ContactStateMachine, InContactOutsideWithTensionIsReleased) {
+  Machine m;
+  // Committed in contact: the node separates (Separation = ⁽ᵗ⁾Contact = true).
+  ContactNode s = m.in_contact(1), committed = m.in_contact(1);
+  auto b = update_contact_node(s, committed, Vec3(0.1, 0.2, 0), Vec3(0.1, 0.2, 0.05), m.where);
+  EXPECT_EQ(b, ContactBranch::released);
+  EXPECT_FALSE(s.contact);
+  EXPECT_TRUE(s.separation);
+  EXPECT_TRUE(s.force.isZero());
+  // Closed in this step only (committed free): released to free, no Separation.
+  s = m.in_contact(1);
+  b = update_contact_node(s, ContactNode{}, Vec3(0.1, 0.2, 0.01), Vec3(0.1, 0.2, 0.05), m.where);
+  EXPECT_EQ(b, ContactBranch::released);
+  EXPECT_FALSE(s.contact);
+  EXPECT_FALSE(s.separation);
+}
+
+TEST(ContactStateMachine, InContactOutsideStillPressedIsHeld) {
+  Machine m;
+  ContactNode s = m.in_contact(10), committed = m.in_contact(10);
+  // 0.03 above the plane: F = 10 − 100·0.03 = 7 > 0, still pressed (augmented update).
+  const auto b = update_contact_node(s, committed, Vec3(0.1, 0.2, 0), Vec3(0.1, 0.2, 0.03),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::held_outside);
+  EXPECT_TRUE(s.contact);
+  EXPECT_NEAR(s.force.z(), 7, 1e-12);
+  EXPECT_TRUE(s.point.isApprox(Vec3(0.1, 0.2, 0)));
+}
+
+TEST(ContactStateMachine, SeparatingNodeThatGoesBackInIsHeldAtItsOldNearestPoint) {
+  Machine m;
+  ContactNode committed = m.in_contact(3), s;
+  s.separation = true;
+  s.kappa = 100;
+  const auto b = update_contact_node(s, committed, Vec3(0.1, 0.2, 0.001), Vec3(0.5, 0.2, -0.01),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::back_in);
+  EXPECT_TRUE(s.contact);
+  EXPECT_FALSE(s.separation);
+  EXPECT_TRUE(s.point.isApprox(Vec3(0.1, 0.2, 0)));  // nearestPoint(⁽ᵗ⁾r), not of r
+  EXPECT_TRUE(s.force.isZero());                     // (3.5) in the iteration it separated
+}
+
+TEST(ContactStateMachine, SeparatingNodeThatStaysOutStaysSeparated) {
+  Machine m;
+  ContactNode committed = m.in_contact(3), s;
+  s.separation = true;
+  const auto b = update_contact_node(s, committed, Vec3(0.1, 0.2, 0), Vec3(0.1, 0.2, 0.2),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::stays_separated);
+  EXPECT_FALSE(s.contact);
+  EXPECT_TRUE(s.separation);
+}
+
+TEST(ContactStateMachine, FreeNodeWhosePathCrossesTheSurfaceCloses) {
+  Machine m;
+  ContactNode s;
+  const auto b = update_contact_node(s, ContactNode{}, Vec3(0, 0, 0.1), Vec3(0.2, 0, -0.1),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::closes);
+  EXPECT_TRUE(s.contact);
+  EXPECT_TRUE(s.point.isApprox(Vec3(0.1, 0, 0)));  // intersectionPoint(⁽ᵗ⁾r, r)
+}
+
+TEST(ContactStateMachine, FreeNodeThatDoesNotReachTheSurfaceStaysFree) {
+  Machine m;
+  ContactNode s;
+  const auto b = update_contact_node(s, ContactNode{}, Vec3(0, 0, 0.1), Vec3(0, 0, 0.05),
+                                     m.where);
+  EXPECT_EQ(b, ContactBranch::stays_free);
+  EXPECT_FALSE(s.contact);
+  EXPECT_FALSE(s.separation);
+  EXPECT_NEAR(s.gap, 0.05, 1e-15);
+}
+
+TEST(ContactStateMachine, AMovingSurfaceThatRunsIntoAStillNodeCatchesIt) {
+  // The plane rises from z = 0 to z = 0.2 while the node stays at z = 0.1: in the surface's
+  // frame the node crosses it, so it closes; the contact point is on the moved plane.
+  Machine m;
+  m.where.m1 = Vec3(0, 0, 0.2);
+  ContactNode s;
+  const auto b = update_contact_node(s, ContactNode{}, Vec3(0, 0, 0.1), Vec3(0, 0, 0.1), m.where);
+  EXPECT_EQ(b, ContactBranch::closes);
+  EXPECT_TRUE(s.point.isApprox(Vec3(0, 0, 0.2)));
+  EXPECT_NEAR(s.gap, -0.1, 1e-15);
+}
+
+// ------------------------------------------------------------------------------------------
+// Whole analyses with exact answers
+
+constexpr double E = 200e9, nu = 0.3;
+
+/// The unit cube of cube_msh() on the plane z = 0 (it touches it), held by rollers on x0 and
+/// y0 and with its top face z1 held at z; the plane moves up by `motion`.
+std::string pressed_block_case(const std::string& motion, const std::string& times,
+                               const std::string& extra = "") {
+  return fmt::format(R"(mesh: {{file: cube.msh}}
+materials:
+  - {{E: {}, nu: {}}}
+boundary:
+  - {{region: x0, displacement: {{x: 0}}}}
+  - {{region: y0, displacement: {{y: 0}}}}
+  - {{region: z1, displacement: {{z: 0}}}}
+contact:
+  - name: floor
+    nodes: z0
+    surface: {{plane: {{point: [0, 0, 0], normal: [0, 0, 1]}}}}
+    motion: [0, 0, "{}"]
+    penetration: 1e-12
+{}solver: {{times: [{}], tolerance: 1e-12}}
+output: {{reactions: [z1]}}
+)",
+                     num(E), num(nu), motion, extra, times);
+}
+
+class PressedBlock : public ::testing::TestWithParam<verify::GridCells> {};
+
+TEST_P(PressedBlock, UniformStressExactly) {
+  verify::TempDir dir("contact-block");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(2, GetParam(), 0.15));
+  const double d = 1e-3;  // the plane rises by d: ε_zz = −d
+  const auto run = verify::run_stepped(dir.path(), pressed_block_case(num(d) + "*t", "0.5, 1"));
+  ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
+  const State& s = run->all.states.back();
+  const double szz = -E * d;
+  double worst = 0;
+  for (const Voigt& sig : s.stress) {
+    worst = std::max(worst, std::abs(sig[2] - szz));
+    for (int k : {0, 1, 3, 4, 5}) worst = std::max(worst, std::abs(sig[k]));
+  }
+  verify::report(fmt::format("block on a rigid plane ({}): largest stress error {:.2e} of σ_zz",
+                             verify::to_string(GetParam()), worst / std::abs(szz)));
+  EXPECT_LT(worst, 1e-9 * std::abs(szz));
+  // Conservation: the support's force balances the reaction at the top, and equals σ·A.
+  const auto totals = contact_totals(run->model(), s);
+  ASSERT_EQ(totals.size(), 1u);
+  EXPECT_NEAR(totals[0].force, -szz, 1e-9 * std::abs(szz));
+  EXPECT_NEAR(totals[0].resultant.z(), -szz, 1e-9 * std::abs(szz));
+  EXPECT_EQ(totals[0].nodes, static_cast<int>(run->model().contacts()[0].points.size()));
+  const auto reactions = region_reactions(run->model(), s);
+  EXPECT_NEAR(reactions[0].z() + totals[0].resultant.z(), 0, 1e-9 * std::abs(szz));
+  // The contact pressure is −σ_zz at every node, corners of quadratic faces included.
+  const NodalContact nc = nodal_contact(run->model(), s);
+  for (const ContactPoint& p : run->model().contacts()[0].points)
+    EXPECT_NEAR(nc.pressure[p.node], -szz, 1e-8 * std::abs(szz)) << "node " << p.node;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cells, PressedBlock,
+                         ::testing::Values(verify::GridCells::hex8, verify::GridCells::hex20,
+                                           verify::GridCells::wedge6),
+                         [](const auto& info) {
+                           std::string s = verify::to_string(info.param);
+                           for (char& c : s)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return s;
+                         });
+
+TEST(ContactRelease, TheBlockSeparatesAndReturnsToZeroStress) {
+  verify::TempDir dir("contact-release");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(2, verify::GridCells::hex8, 0.1));
+  // Up by 1e-3 until t = 1, back down to 0 at t = 2 and on to −0.5e-3 at t = 3.
+  const auto run = verify::run_stepped(
+      dir.path(), pressed_block_case("1e-3*(t <= 1 ? t : 2 - t)", "0.5, 1, 1.5, 2.25, 2.5, 3"));
+  ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
+  const auto& states = run->all.states;
+  ASSERT_EQ(states.size(), 6u);
+  const int n_points = static_cast<int>(run->model().contacts()[0].points.size());
+  EXPECT_EQ(contact_totals(run->model(), states[1])[0].nodes, n_points);
+  // t = 2.25: the plane is below where the block's face rests; every node has just separated.
+  for (int k : {3, 4, 5}) {
+    const State& s = states[k];
+    const auto totals = contact_totals(run->model(), s);
+    EXPECT_EQ(totals[0].nodes, 0) << "t = " << s.time;
+    EXPECT_EQ(totals[0].force, 0);
+    for (double f : s.f_contact) EXPECT_EQ(f, 0);
+    double worst = 0;
+    for (const Voigt& sig : s.stress) worst = std::max(worst, sig.cwiseAbs().maxCoeff());
+    EXPECT_LT(worst, 1e-9 * E * 1e-3) << "t = " << s.time;
+  }
+  // The step in which they leave marks them separating (contact_state 2), the next one free.
+  const NodalContact leaving = nodal_contact(run->model(), states[3]);
+  const NodalContact later = nodal_contact(run->model(), states[4]);
+  for (const ContactPoint& p : run->model().contacts()[0].points) {
+    EXPECT_EQ(leaving.state[p.node], 2) << "node " << p.node;
+    EXPECT_EQ(later.state[p.node], 0) << "node " << p.node;
+    EXPECT_NEAR(later.gap[p.node], 0.5e-3, 1e-12);
+  }
+}
+
+TEST(ContactThermal, ABarHeatedAgainstAWallAfterItsGapCloses) {
+  // Bar 1 x 1 x 1 on rollers, z0 held; a rigid wall at z = 1 + g faces it from above. Heated
+  // by ΔT(t) = 200 t: free expansion α ΔT until α ΔT·L = g (t = 0.5), then σ_zz = −E(αΔT − g/L).
+  verify::TempDir dir("contact-thermal");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(2, verify::GridCells::hex20, 0.1));
+  const double alpha = 1.2e-5, g = 1.2e-3;
+  const std::string yaml = fmt::format(R"(mesh: {{file: cube.msh}}
+materials:
+  - {{E: {}, nu: {}, alpha: {}}}
+temperature: {{reference: 20, field: "20 + 200*t"}}
+boundary:
+  - {{region: x0, displacement: {{x: 0}}}}
+  - {{region: y0, displacement: {{y: 0}}}}
+  - {{region: z0, displacement: {{z: 0}}}}
+contact:
+  - name: wall
+    nodes: z1
+    surface: {{plane: {{point: [0, 0, {}], normal: [0, 0, -1]}}}}
+    penetration: 1e-12
+solver: {{times: [0.25, 0.5, 0.75, 1], tolerance: 1e-10}}
+)",
+                                       num(E), num(nu), num(alpha), num(1 + g));
+  const auto run = verify::run_stepped(dir.path(), yaml);
+  ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
+  const auto& states = run->all.states;
+  ASSERT_EQ(states.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    const double dT = 200 * states[k].time;
+    const double szz = -E * std::max(0.0, alpha * dT - g);
+    double worst = 0;
+    for (const Voigt& sig : states[k].stress) {
+      worst = std::max(worst, std::abs(sig[2] - szz));
+      for (int c : {0, 1, 3, 4, 5}) worst = std::max(worst, std::abs(sig[c]));
+    }
+    verify::report(fmt::format("heated bar against a wall, t = {:g}: σ_zz = {:.6g} expected, "
+                               "largest error {:.2e}",
+                               states[k].time, szz, worst));
+    EXPECT_LT(worst, 1e-9 * E * alpha * 200) << "t = " << states[k].time;
+  }
+}
+
+}  // namespace
+}  // namespace hencky
