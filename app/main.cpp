@@ -39,6 +39,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   const fs::path dir = out_dir.empty() ? c.output.dir : fs::absolute(out_dir);
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
+  for (const auto& line : describe_contact(model)) log.info("{}", line);
 
   auto solver = make_linear_solver(c.solver.linear == SolverSpec::Linear::iterative
                                        ? LinearSolverKind::iterative
@@ -101,6 +102,7 @@ int check(const std::string& case_path) {
   std::cout << "  regions:";
   for (const auto& r : m.mesh().regions) std::cout << fmt::format(" {} ({}D)", r.name, r.dim);
   std::cout << "\n";
+  for (const auto& line : describe_contact(m)) std::cout << "  " << line << "\n";
   return 0;
 }
 

@@ -160,10 +160,14 @@ class StepSolver {
       }
       double r = residual_vector(trial);
       if (iterations == 0) {
-        f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(r)});
+        f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int),
+                           std::sqrt(contact_.active() ? load_residual(trial) : r)});
         r = extrapolated_start(c, trial, r);
       }
-      residual = f_norm > 0 ? std::sqrt(r) / f_norm : 0.0;
+      // With contact, the force a surface's travel puts on the first iterate (κ times the
+      // travel) is no force scale of the problem: that of the internal forces of the iterate is.
+      const double scale = contact_.active() ? std::max(f_norm, norm(trial.f_int)) : f_norm;
+      residual = scale > 0 ? std::sqrt(r) / scale : 0.0;
       if (plastic_) {
         log_.detail(
             "  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
@@ -184,7 +188,7 @@ class StepSolver {
       if (iterations >= 1 && residual <= spec.tolerance && measures_ok && contact_ok) {
         // The reported residual is the true equilibrium defect F − F_int (γ only shifts the
         // target).
-        residual = f_norm > 0 ? equilibrium_defect(trial) / f_norm : 0.0;
+        residual = scale > 0 ? equilibrium_defect(trial) / scale : 0.0;
         // Small strains: an equilibrium found with displacements of the order of the body is a
         // mechanism (a load at or above the plastic limit load), not an answer.
         if (plastic_) {
@@ -307,6 +311,16 @@ class StepSolver {
     return r2;
   }
 
+  /// ‖target − F_int‖² on the free dofs: the residual without the supports' forces.
+  double load_residual(const State& trial) const {
+    double r2 = 0;
+    for (int i = 0; i < m_.dofs().n_dofs(); ++i)
+      if (m_.dofs().eq[i] >= 0) r2 += (target_[i] - trial.f_int[i]) * (target_[i] - trial.f_int[i]);
+    return r2;
+  }
+
+  std::string contact_diagnosis() const { return contact_.diagnosis(); }
+
   /// The contact line of a converged step's log entry (empty without contact).
   std::string contact_summary(const State& s) const {
     return contact_.active() ? contact_.summary(s) : std::string();
@@ -362,7 +376,7 @@ class StepSolver {
     const auto& mesh = m_.mesh();
     trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
     std::atomic<bool> changed{false};
-    std::atomic<int> undefined_cell{-1};
+    std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1};
     m_.assembler().vector(
         [&](int e, CellBuffers& b) {
           const auto nodes = mesh.cells.nodes(e);
@@ -396,6 +410,10 @@ class StepSolver {
                 trial.stress[p] = c.stress[p];
                 continue;
               }
+              if (u.negative_secant) {
+                int none = -1;
+                negative_secant_cell.compare_exchange_strong(none, e);
+              }
               trial.stress[p] = u.sigma;
               trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
               trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
@@ -426,6 +444,7 @@ class StepSolver {
           "variable-stiffness with curve_form: stress, or newton",
           scheme_name(options_.kind), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
     }
+    negative_secant_cell_ = negative_secant_cell.load();
     if (plastic_) measures(trial);
     timings_.material += seconds_since(t0);
   }
@@ -546,7 +565,20 @@ class StepSolver {
       analyzed_ = true;
     }
     failed_in_linear_solver_ = true;
-    solver_.factorize(values_);
+    try {
+      solver_.factorize(values_);
+    } catch (const SolveError& e) {
+      if (negative_secant_cell_ < 0) throw;
+      // variable-stiffness with a negative secant: say why the matrix is indefinite.
+      failed_in_linear_solver_ = false;
+      throw SolveError(fmt::format(
+          "{}: scheme 'variable-stiffness' has a negative secant slope of the curve of material "
+          "'{}' at element {} (the stress at the start of the step lies above the curve along "
+          "the step's flow direction, as a strong turn of the stress under an indenter leaves "
+          "it); use newton or initial-stress",
+          e.what(), m_.material_of(negative_secant_cell_).spec->name,
+          m_.mesh().cells.tag[negative_secant_cell_]));
+    }
     failed_in_linear_solver_ = false;
     ++factorizations_;
     factorized_ = true;
@@ -578,6 +610,7 @@ class StepSolver {
   int plastic_points_ = 0;
   int factorizations_ = 0;
   bool failed_in_linear_solver_ = false;
+  int negative_secant_cell_ = -1;  ///< a cell whose variable-stiffness secant is negative
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
   // newton's predictor (solver.predictor): the last converged increment of the free unknowns
   // and its Δt
@@ -617,9 +650,11 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     std::string why;
     try {
       ok = stepper.step(committed, t1, trial, iterations, residual);
-      if (!ok)
+      if (!ok) {
         why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", iterations,
                           residual);
+        if (const std::string c = stepper.contact_diagnosis(); !c.empty()) why += "; " + c;
+      }
     } catch (const SolveError& e) {
       if (result.steps == 0 && iterations == 0 && stepper.failed_in_linear_solver())
         throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},

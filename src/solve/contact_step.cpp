@@ -56,6 +56,8 @@ void ContactStep::begin(const State& c, State& trial) {
     std::fill(prev_gap_[b].begin(), prev_gap_[b].end(), NAN);
   }
   progress_ = ContactProgress{};
+  for (const auto& states : trial.contact)
+    for (const ContactNode& n : states) progress_.in_contact += n.contact;
 }
 
 void ContactStep::forces(State& trial) const {
@@ -150,6 +152,30 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
   }
   progress_ = pr;
   return pr;
+}
+
+std::string ContactStep::diagnosis() const {
+  if (!active()) return {};
+  std::string s;
+  if (progress_.set_changed)
+    s = "the contact set still changed in the last iteration";
+  else if (progress_.worst_gap > 1)
+    s = fmt::format("the largest gap of a node in contact is {:.3g} times the allowed one",
+                    progress_.worst_gap);
+  // A given κ far below the mesh's stiffness makes the augmented update (3.4) close the gaps
+  // and settle the forces slowly: the residual then falls by about k/(k + κ) per iteration.
+  for (const ContactBody& b : m_->contacts()) {
+    if (!b.spec->stiffness) continue;
+    double k_min = INFINITY;
+    for (const ContactPoint& p : b.points) k_min = std::min(k_min, p.stiffness);
+    if (*b.spec->stiffness < auto_kappa_factor * k_min / 10)
+      s += fmt::format("{}contact '{}': stiffness {:.3g} is small against the mesh's stiffness "
+                       "(auto would start at {:.3g} or more), so the contact forces settle "
+                       "slowly; try stiffness: auto",
+                       s.empty() ? "" : "; ", b.spec->name, *b.spec->stiffness,
+                       auto_kappa_factor * k_min);
+  }
+  return s;
 }
 
 std::string ContactStep::summary(const State& s) const {

@@ -49,6 +49,9 @@ class ContactStep {
   ContactProgress update(const State& c, State& trial);
   /// The progress of the last update (or of begin(): all quiet).
   const ContactProgress& progress() const { return progress_; }
+  /// Why the contact kept a step from converging ("" when it did not): for the message of a
+  /// failed step.
+  std::string diagnosis() const;
   /// One line per surface for the log of a converged step.
   std::string summary(const State& s) const;
 

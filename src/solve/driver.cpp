@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 
 #include "io/gmsh_reader.hpp"
@@ -38,6 +39,33 @@ std::string describe_mesh(const Mesh& mesh) {
     first = false;
   }
   return s + ")";
+}
+
+std::vector<std::string> describe_contact(const Model& model) {
+  std::vector<std::string> out;
+  for (const ContactBody& b : model.contacts()) {
+    static const char* shapes[] = {"plane", "sphere", "cylinder", "STL mesh"};
+    const ContactSpec& s = *b.spec;
+    double k_lo = INFINITY, k_hi = 0;
+    int touching = 0, quadratic = 0;
+    const Vec3 m0 = b.motion(0);
+    for (std::size_t i = 0; i < b.points.size(); ++i) {
+      const double k = b.initial_kappa(static_cast<int>(i));
+      k_lo = std::min(k_lo, k);
+      k_hi = std::max(k_hi, k);
+      touching += b.surface->signed_distance(b.points[i].x - m0) <= 1e-9 * b.points[i].size;
+      quadratic += b.points[i].terms == 3;
+    }
+    std::string line = fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on a {}",
+                                   s.name, b.points.size(), s.nodes, touching,
+                                   quadratic ? fmt::format(", {} mid-edge", quadratic) : "",
+                                   shapes[static_cast<int>(s.shape)]);
+    line += s.stiffness ? fmt::format("; κ = {:.3g}", *s.stiffness)
+                        : fmt::format("; κ auto {:.3g} .. {:.3g}", k_lo, k_hi);
+    line += fmt::format(", allowed penetration {:g} of the element size", s.penetration);
+    out.push_back(line);
+  }
+  return out;
 }
 
 std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log) {

@@ -24,6 +24,8 @@ LoadedCase load_case(const std::filesystem::path& case_file, Log& log);
 
 /// "1865 nodes, 320 elements (320 20-node hexahedron)"
 std::string describe_mesh(const Mesh& mesh);
+/// One line per contact: its surface, nodes, those touching at t = 0 and the range of κ.
+std::vector<std::string> describe_contact(const Model& model);
 
 /// Keeps the reports and the last committed state (for tests and tools).
 class KeepLastState final : public StepObserver {

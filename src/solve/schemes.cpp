@@ -171,6 +171,10 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, c
                       : 1 / fk.slope;
         lambda = (three_g - new_tan) / three_g * xt;
       }
+      // A stress at t above the curve along this step's direction Z (left by an earlier step
+      // whose stress turned away from its Z, as under an indenter) makes the secant negative
+      // and D̃ indefinite: the scheme has no answer for the step.
+      u.negative_secant = new_tan < 0;
       u.tangent = d_tilde(k1, z, new_tan);
       break;
 

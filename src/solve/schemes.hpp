@@ -96,6 +96,7 @@ struct PointUpdate {
   bool plastic = false;  ///< plastic flow in this iterate
   double defect_sigma = 0, defect_eps = 0;  ///< numerators of Δ^σ_k, Δ^ε_k
   bool undefined = false;  ///< the strain form F was needed above the curve's largest stress
+  bool negative_secant = false;  ///< variable-stiffness: the secant slope is negative
 };
 
 /// Sets up a point for a step: direction, start slope, the scheme's initial parameters.

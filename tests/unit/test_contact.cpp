@@ -264,6 +264,46 @@ INSTANTIATE_TEST_SUITE_P(Cells, PressedBlock,
                            return s;
                          });
 
+class PressedPlasticBlock : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PressedPlasticBlock, EverySchemeFollowsTheUniaxialCurve) {
+  // Linear hardening, plastic modulus Hp: pressed to ε_zz = −d beyond yield the block is in
+  // uniaxial stress |σ| = (d + σy/Hp) / (1/E + 1/Hp), uniform: every scheme must land on it.
+  verify::TempDir dir("contact-plastic-block");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(2, verify::GridCells::hex8, 0.1));
+  const double sy = 250e6, Hp = 20e9, d = 4e-3;
+  const std::string mat = fmt::format(
+      "E: {}, nu: {}, plasticity: {{linear: {{yield: {}, hardening: {}}}}}", num(E), num(nu),
+      num(sy), num(Hp));
+  std::string yaml = pressed_block_case(num(d) + "*t", "0.25, 0.5, 0.75, 1");
+  yaml.replace(yaml.find("E: "), fmt::format("E: {}, nu: {}", num(E), num(nu)).size(), mat);
+  yaml.replace(yaml.find("tolerance: 1e-12"), 16,
+               fmt::format("tolerance: 1e-9, scheme: {}, relaxation: 0.1, max_iterations: 400",
+                           GetParam()));
+  const auto run = verify::run_stepped(dir.path(), yaml);
+  ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
+  const State& s = run->all.states.back();
+  const double szz = -(d + sy / Hp) / (1 / E + 1 / Hp);
+  double worst = 0;
+  for (const Voigt& sig : s.stress) worst = std::max(worst, std::abs(sig[2] - szz));
+  verify::report(fmt::format("plastic block on a rigid plane, {}: σ_zz error {:.2e} of {:.4g}, "
+                             "{} iterations",
+                             GetParam(), worst / std::abs(szz), szz, run->result.iterations));
+  EXPECT_LT(worst, 1e-6 * std::abs(szz));
+  EXPECT_NEAR(contact_totals(run->model(), s)[0].force, -szz, 1e-6 * std::abs(szz));
+}
+
+INSTANTIATE_TEST_SUITE_P(Schemes, PressedPlasticBlock,
+                         ::testing::Values("newton", "variable-stiffness", "initial-strain",
+                                           "initial-strain-stiffness", "initial-stress",
+                                           "initial-stress-stiffness"),
+                         [](const auto& info) {
+                           std::string s = info.param;
+                           for (char& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
 TEST(ContactRelease, TheBlockSeparatesAndReturnsToZeroStress) {
   verify::TempDir dir("contact-release");
   verify::write_file(dir.path() / "cube.msh", verify::cube_msh(2, verify::GridCells::hex8, 0.1));
