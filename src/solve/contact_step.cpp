@@ -166,14 +166,23 @@ std::string ContactStep::diagnosis() const {
   // and settle the forces slowly: the residual then falls by about k/(k + κ) per iteration.
   for (const ContactBody& b : m_->contacts()) {
     if (!b.spec->stiffness) continue;
-    double k_min = INFINITY;
-    for (const ContactPoint& p : b.points) k_min = std::min(k_min, p.stiffness);
-    if (*b.spec->stiffness < auto_kappa_factor * k_min / 10)
+    double k_min = INFINITY, k_max = 0;
+    for (const ContactPoint& p : b.points) {
+      k_min = std::min(k_min, p.stiffness);
+      k_max = std::max(k_max, p.stiffness);
+    }
+    const double kappa = *b.spec->stiffness;
+    const char* sep = s.empty() ? "" : "; ";
+    if (kappa < auto_kappa_factor * k_min / 10)
       s += fmt::format("{}contact '{}': stiffness {:.3g} is small against the mesh's stiffness "
                        "(auto would start at {:.3g} or more), so the contact forces settle "
                        "slowly; try stiffness: auto",
-                       s.empty() ? "" : "; ", b.spec->name, *b.spec->stiffness,
-                       auto_kappa_factor * k_min);
+                       sep, b.spec->name, kappa, auto_kappa_factor * k_min);
+    else if (kappa > 1e3 * auto_kappa_factor * k_max)
+      s += fmt::format("{}contact '{}': stiffness {:.3g} is more than 1e4 times the mesh's "
+                       "stiffness ({:.3g} at most), and round-off in the solve hides the "
+                       "small forces of the body; try stiffness: auto",
+                       sep, b.spec->name, kappa, k_max);
   }
   return s;
 }

@@ -7,6 +7,8 @@
 #include "contact/contact.hpp"
 #include "contact/rigid_surface.hpp"
 #include "io/results.hpp"
+#include "solve/contact_step.hpp"
+#include "solve/driver.hpp"
 #include "verify_support.hpp"
 
 namespace hencky {
@@ -263,6 +265,38 @@ INSTANTIATE_TEST_SUITE_P(Cells, PressedBlock,
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return s;
                          });
+
+TEST(ContactStep, AnOscillatingContactSetFailsTheStepInsteadOfLooping) {
+  // Iterates that put the block's face alternately 1e-3 below and above the plane make every
+  // node flip between contact and separation; after max_flips changes the step fails (and the
+  // step loop cuts it back) instead of iterating on to max_iterations.
+  verify::TempDir dir("contact-oscillation");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
+  verify::write_file(dir.path() / "case.yaml", pressed_block_case("0", "1"));
+  Log log;
+  log.quiet = true;
+  const LoadedCase l = load_case(dir.path() / "case.yaml", log);
+  const Model& m = *l.model;
+  ContactStep contact(m, log);
+  State c;
+  c.u.assign(m.dofs().n_dofs(), 0.0);
+  contact.initial(c);
+  ASSERT_EQ(contact_totals(m, c)[0].nodes, 4);  // touching at t = 0
+  State trial = c;
+  trial.time = 1;
+  contact.begin(c, trial);
+  int updates = 0;
+  EXPECT_THROW(
+      {
+        for (; updates < 100; ++updates) {
+          for (const ContactPoint& p : m.contacts()[0].points)
+            trial.u[3 * p.node + 2] = updates % 2 == 0 ? 1e-3 : -1e-3;
+          contact.update(c, trial);
+        }
+      },
+      SolveError);
+  EXPECT_EQ(updates, ContactStep::max_flips);  // the (max_flips + 1)-th change throws
+}
 
 class PressedPlasticBlock : public ::testing::TestWithParam<const char*> {};
 
