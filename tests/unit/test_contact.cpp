@@ -298,6 +298,42 @@ TEST(ContactStep, AnOscillatingContactSetFailsTheStepInsteadOfLooping) {
   EXPECT_EQ(updates, ContactStep::max_flips);  // the (max_flips + 1)-th change throws
 }
 
+TEST(ContactStep, AutoKappaIsRaisedWhereAGapDoesNotHalve) {
+  // Two updates at the same iterate, 1e-3 inside the plane: the gap of every node stays above
+  // the allowed one and does not shrink, so auto raises each κ tenfold (a given κ stays).
+  verify::TempDir dir("contact-kappa");
+  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
+  for (const bool given : {false, true}) {
+    std::string yaml = pressed_block_case("0", "1");
+    if (given) yaml.replace(yaml.find("penetration:"), 0, "stiffness: 1e9\n    ");
+    verify::write_file(dir.path() / "case.yaml", yaml);
+    Log log;
+    log.quiet = true;
+    const LoadedCase l = load_case(dir.path() / "case.yaml", log);
+    const Model& m = *l.model;
+    ContactStep contact(m, log);
+    State c;
+    c.u.assign(m.dofs().n_dofs(), 0.0);
+    contact.initial(c);
+    State trial = c;
+    trial.time = 1;
+    contact.begin(c, trial);
+    for (const ContactPoint& p : m.contacts()[0].points) trial.u[3 * p.node + 2] = -1e-3;
+    const ContactProgress first = contact.update(c, trial);
+    EXPECT_FALSE(first.kappa_raised);  // no earlier gap to compare with
+    EXPECT_GT(first.worst_gap, 1);
+    std::vector<double> values(m.assembler().pattern().nnz(), 0.0);
+    contact.add_matrix(trial, values);
+    EXPECT_FALSE(contact.matrix_stale(trial));
+    const ContactProgress second = contact.update(c, trial);
+    EXPECT_EQ(second.kappa_raised, !given);
+    for (std::size_t i = 0; i < m.contacts()[0].points.size(); ++i)
+      EXPECT_DOUBLE_EQ(trial.contact[0][i].kappa,
+                       (given ? 1 : 10) * m.contacts()[0].initial_kappa(static_cast<int>(i)));
+    EXPECT_EQ(contact.matrix_stale(trial), !given);  // a raised κ needs a new factorization
+  }
+}
+
 class PressedPlasticBlock : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(PressedPlasticBlock, EverySchemeFollowsTheUniaxialCurve) {
