@@ -27,6 +27,9 @@ class StlSurface : public RigidSurface {
   explicit StlSurface(const std::filesystem::path& file, double scale = 1.0);
 
   double signed_distance(const Vec3& p) const override;
+  /// The normal is the facets' own at creases (dihedral angles above 30°) and interpolated
+  /// from smoothed corner normals elsewhere, so that it turns continuously over a faceted
+  /// smooth surface (a sphere) as the true surface's normal does.
   SurfacePoint nearest(const Vec3& p) const override;
   std::optional<SurfacePoint> intersection(const Vec3& a, const Vec3& b) const override;
 
@@ -75,6 +78,9 @@ class StlSurface : public RigidSurface {
   std::vector<Vec3> edge_n_;             // pseudo-normal of edge k of triangle t at 3t + k
   std::vector<int> edge_nb_;             // triangle across edge k of triangle t at 3t + k
   std::vector<Vec3> vertex_n_;           // pseudo-normal per vertex
+  std::vector<Vec3> corner_n_;           // smoothed normal of corner k of triangle t at 3t + k
+  std::vector<std::uint8_t> edge_smooth_;    // edge k of triangle t is no crease, at 3t + k
+  std::vector<std::uint8_t> vertex_smooth_;  // no crease meets at the vertex
   std::vector<Node> nodes_;
   std::vector<int> order_;  // triangles in leaf order
   double volume_ = 0;

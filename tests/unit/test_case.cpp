@@ -534,6 +534,8 @@ TEST_F(CaseTest, ContactErrorsNameTheKey) {
   expect_error(plane + "  - name: floor\n    nodes: top\n",
                {"'contact[1].name'", "already used by contact[0]"});
   expect_error(plane + "    nodes2: x\n", {"'contact[0].nodes2'", "unknown key"});
+  expect_error(plane + "solver: {scheme: initial-stress, acceleration: anderson}\n",
+               {"'solver.acceleration'", "cannot be combined with contact"});
 }
 
 TEST_F(CaseTest, LaterVersionFeatures) {
