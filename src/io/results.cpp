@@ -94,6 +94,7 @@ std::vector<ContactTotals> contact_totals(const Model& model, const State& state
       const Vec3 f = contact_force(s, contact_position(bodies[b].points[i], state.u));
       ++t.nodes;
       t.force += f.dot(s.normal);
+      t.max_pressure = std::max(t.max_pressure, f.dot(s.normal) / bodies[b].points[i].area);
       t.resultant += f;  // Σ T̃ᵀF̃ over the mesh nodes is Σ F̃: each row of T̃ sums to 1
     }
     out.push_back(t);
@@ -170,7 +171,8 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
   history_ << ",delta_sigma,delta_epsilon,factorizations,plastic_points";
   for (const auto& c : model_.contacts()) {
     for (auto ax : axes) history_ << ",contact." << c.spec->name << ".resultant." << ax;
-    history_ << ",contact." << c.spec->name << ".max_penetration";
+    history_ << ",contact." << c.spec->name << ".max_penetration,contact." << c.spec->name
+             << ".max_pressure";
   }
   history_ << '\n';
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
@@ -228,12 +230,13 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
     j["nodes"] = t.nodes;
     for (int d = 0; d < 3; ++d) j["resultant"][axes[d]] = t.resultant[d];
     j["max_penetration"] = t.max_penetration;
+    j["max_pressure"] = t.max_pressure;
   }
   history_ << fmt::format(",{:.6e},{:.6e},{},{}", report.delta_sigma, report.delta_eps,
                           report.factorizations, report.plastic_points);
   for (const ContactTotals& t : contacts)
-    history_ << fmt::format(",{:.17g},{:.17g},{:.17g},{:.6e}", t.resultant.x(), t.resultant.y(),
-                            t.resultant.z(), t.max_penetration);
+    history_ << fmt::format(",{:.17g},{:.17g},{:.17g},{:.6e},{:.17g}", t.resultant.x(),
+                            t.resultant.y(), t.resultant.z(), t.max_penetration, t.max_pressure);
   history_ << '\n';
   history_.flush();
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};

@@ -105,3 +105,28 @@ ex_check "plate-hole-overload: end displacement at the peak vs 1.71290e-4 m with
   'close(at(1.0)["end.displacement.y"], 1.71290e-4, 1e-3)'
 ex_check "plate-hole-overload: permanent set vs 2.0995e-6 m within 1%; unloading parallel to the elastic line to 1e-6" "$hc" \
   'close(at(2.0)["end.displacement.y"], 2.0995e-6, 0.01) and close(at(1.0)["end.displacement.y"] - at(2.0)["end.displacement.y"], 2.5 * at(0.4)["end.displacement.y"], 1e-6)'
+
+# --- Ball indentation: rigid ball R = 10 mm pressed 2 um into steel (E = 210 GPa, nu = 0.3).
+#     Hertz: P = (4/3) E* sqrt(R) delta^1.5 = 87.0285 N (4 x the quarter model's resultant),
+#     p0 = 3P/(2 pi R delta) = 2.07765 GPa, sigma_zz at z = -0.48 a on the axis = -p0/(1 + 0.2304).
+ex_copy ball-indentation
+d="$work/examples/ball-indentation"
+ex_set "$d/block.geo" '^hc = a / [0-9]+;' 'hc = a / 3;'
+expect "ball-indentation: runs on a coarse mesh (hc = a/3)" 0 "" -- run "$d/case.yaml" --quiet
+s="$d/case.out/summary.json"; hc="$d/case.out/history.csv"
+ex_check "ball-indentation: converged in the 6 steps given, no warnings" "$s" \
+  's["status"] == "converged" and s["steps"] == 6 and s["warnings"] == []'
+ex_check "ball-indentation: force at full load vs Hertz within 2%" "$hc" \
+  'close(-4 * at(1.0)["contact.ball.resultant.z"], 87.028527, 0.02)'
+ex_check "ball-indentation: peak contact pressure vs Hertz p0 within 3%" "$hc" \
+  'close(at(1.0)["contact.ball.max_pressure"], 2.0776530e9, 0.03)'
+ex_check "ball-indentation: sigma_zz at 0.48 a below the centre vs Hertz within 3%" "$hc" \
+  'close(at(1.0)["below.stress.zz"], -2.0776530e9 / 1.2304, 0.03)'
+ex_check "ball-indentation: the bottom's reaction balances the contact force to 1e-6" "$hc" \
+  'all(abs(r["reaction.bottom.z"] + r["contact.ball.resultant.z"]) <= 1e-6 * 87.0 for r in h)'
+ex_check "ball-indentation: elastic: the unloading branch retraces the loading one to 1e-6" "$hc" \
+  'close(at(1.5)["contact.ball.resultant.z"], at(0.5)["contact.ball.resultant.z"], 1e-6)'
+ex_check "ball-indentation: released at t = 2 (at most the touching node left, no force)" "$hc" \
+  'at(2.0)["contact.ball.nodes"] <= 1 and abs(at(2.0)["contact.ball.resultant.z"]) < 1e-6 * 87.0'
+ex_check "ball-indentation: summary reports the contact (force, nodes, resultant, max_pressure)" "$s" \
+  'set(s["contact"]["ball"]) >= {"force", "nodes", "resultant", "max_penetration", "max_pressure"}'
