@@ -205,24 +205,35 @@ constexpr double E = 200e9, nu = 0.3;
 /// y0 and with its top face z1 held at z; the plane moves up by `motion`.
 std::string pressed_block_case(const std::string& motion, const std::string& times,
                                const std::string& extra = "") {
-  return fmt::format(R"(mesh: {{file: cube.msh}}
-materials:
-  - {{E: {}, nu: {}}}
-boundary:
-  - {{region: x0, displacement: {{x: 0}}}}
-  - {{region: y0, displacement: {{y: 0}}}}
-  - {{region: z1, displacement: {{z: 0}}}}
-contact:
-  - name: floor
-    nodes: z0
-    surface: {{plane: {{point: [0, 0, 0], normal: [0, 0, 1]}}}}
-    motion: [0, 0, "{}"]
-    penetration: 1e-12
-{}solver: {{times: [{}], tolerance: 1e-12}}
-output: {{reactions: [z1]}}
-)",
-                     num(E), num(nu), motion, extra, times);
+  return verify::block_on_plane_case("{file: cube.msh}", 0, motion, times, E, nu, extra);
 }
+
+/// A contact step on the one-hexahedron cube of pressed_block_case(): the model, and the
+/// committed state at t = 0 with a trial state for a step to t = 1 begun from it.
+struct CubeContactStep {
+  verify::TempDir dir{"contact-step"};
+  Log log;
+  LoadedCase loaded;
+  std::unique_ptr<ContactStep> contact;
+  State c, trial;
+  explicit CubeContactStep(const std::string& yaml) {
+    log.quiet = true;
+    verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
+    verify::write_file(dir.path() / "case.yaml", yaml);
+    loaded = load_case(dir.path() / "case.yaml", log);
+    contact = std::make_unique<ContactStep>(model(), log);
+    c.u.assign(model().dofs().n_dofs(), 0.0);
+    contact->initial(c);
+    trial = c;
+    trial.time = 1;
+    contact->begin(c, trial);
+  }
+  const Model& model() const { return *loaded.model; }
+  /// Puts every contact node at height z.
+  void move_face_to(double z) {
+    for (const ContactPoint& p : model().contacts()[0].points) trial.u[3 * p.node + 2] = z;
+  }
+};
 
 class PressedBlock : public ::testing::TestWithParam<verify::GridCells> {};
 
@@ -270,28 +281,14 @@ TEST(ContactStep, AnOscillatingContactSetFailsTheStepInsteadOfLooping) {
   // Iterates that put the block's face alternately 1e-3 below and above the plane make every
   // node flip between contact and separation; after max_flips changes the step fails (and the
   // step loop cuts it back) instead of iterating on to max_iterations.
-  verify::TempDir dir("contact-oscillation");
-  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
-  verify::write_file(dir.path() / "case.yaml", pressed_block_case("0", "1"));
-  Log log;
-  log.quiet = true;
-  const LoadedCase l = load_case(dir.path() / "case.yaml", log);
-  const Model& m = *l.model;
-  ContactStep contact(m, log);
-  State c;
-  c.u.assign(m.dofs().n_dofs(), 0.0);
-  contact.initial(c);
-  ASSERT_EQ(contact_totals(m, c)[0].nodes, 4);  // touching at t = 0
-  State trial = c;
-  trial.time = 1;
-  contact.begin(c, trial);
+  CubeContactStep cs(pressed_block_case("0", "1"));
+  ASSERT_EQ(contact_totals(cs.model(), cs.c)[0].nodes, 4);  // touching at t = 0
   int updates = 0;
   EXPECT_THROW(
       {
         for (; updates < 100; ++updates) {
-          for (const ContactPoint& p : m.contacts()[0].points)
-            trial.u[3 * p.node + 2] = updates % 2 == 0 ? 1e-3 : -1e-3;
-          contact.update(c, trial);
+          cs.move_face_to(updates % 2 == 0 ? 1e-3 : -1e-3);
+          cs.contact->update(cs.c, cs.trial);
         }
       },
       SolveError);
@@ -301,24 +298,14 @@ TEST(ContactStep, AnOscillatingContactSetFailsTheStepInsteadOfLooping) {
 TEST(ContactStep, AutoKappaIsRaisedWhereAGapDoesNotHalve) {
   // Two updates at the same iterate, 1e-3 inside the plane: the gap of every node stays above
   // the allowed one and does not shrink, so auto raises each κ tenfold (a given κ stays).
-  verify::TempDir dir("contact-kappa");
-  verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
   for (const bool given : {false, true}) {
     std::string yaml = pressed_block_case("0", "1");
     if (given) yaml.replace(yaml.find("penetration:"), 0, "stiffness: 1e9\n    ");
-    verify::write_file(dir.path() / "case.yaml", yaml);
-    Log log;
-    log.quiet = true;
-    const LoadedCase l = load_case(dir.path() / "case.yaml", log);
-    const Model& m = *l.model;
-    ContactStep contact(m, log);
-    State c;
-    c.u.assign(m.dofs().n_dofs(), 0.0);
-    contact.initial(c);
-    State trial = c;
-    trial.time = 1;
-    contact.begin(c, trial);
-    for (const ContactPoint& p : m.contacts()[0].points) trial.u[3 * p.node + 2] = -1e-3;
+    CubeContactStep cs(yaml);
+    const Model& m = cs.model();
+    ContactStep& contact = *cs.contact;
+    State &c = cs.c, &trial = cs.trial;
+    cs.move_face_to(-1e-3);
     const ContactProgress first = contact.update(c, trial);
     EXPECT_FALSE(first.kappa_raised);  // no earlier gap to compare with
     EXPECT_GT(first.worst_gap, 1);

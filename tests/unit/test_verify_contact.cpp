@@ -151,28 +151,16 @@ double largest_allowed_gap(const Model& model, const std::vector<State>& states)
 /// (y = 0), top (z = 0), bottom (z = −L); the faces x = L and y = L have none.
 std::string graded_quarter_block_geo(double L, double h_c, double r_fine, double growth,
                                      double h_max) {
-  return fmt::format(R"geo(L = {};
-Point(1) = {{0, 0, 0}}; Point(2) = {{L, 0, 0}}; Point(3) = {{L, L, 0}}; Point(4) = {{0, L, 0}};
-Point(5) = {{0, 0, -L}}; Point(6) = {{L, 0, -L}}; Point(7) = {{L, L, -L}}; Point(8) = {{0, L, -L}};
-Line(1) = {{1, 2}}; Line(2) = {{2, 3}}; Line(3) = {{3, 4}}; Line(4) = {{4, 1}};
-Line(5) = {{5, 6}}; Line(6) = {{6, 7}}; Line(7) = {{7, 8}}; Line(8) = {{8, 5}};
-Line(9) = {{1, 5}}; Line(10) = {{2, 6}}; Line(11) = {{3, 7}}; Line(12) = {{4, 8}};
-Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
-Curve Loop(2) = {{5, 6, 7, 8}}; Plane Surface(2) = {{2}};
-Curve Loop(3) = {{1, 10, -5, -9}}; Plane Surface(3) = {{3}};
-Curve Loop(4) = {{2, 11, -6, -10}}; Plane Surface(4) = {{4}};
-Curve Loop(5) = {{3, 12, -7, -11}}; Plane Surface(5) = {{5}};
-Curve Loop(6) = {{4, 9, -8, -12}}; Plane Surface(6) = {{6}};
-Surface Loop(1) = {{1, 2, 3, 4, 5, 6}}; Volume(1) = {{1}};
-Physical Volume("body") = {{1}};
+  return verify::box_entities_geo(Vec3(0, 0, -L), Vec3(L, L, 0), h_max) +
+         fmt::format(R"geo(Physical Volume("body") = {{1}};
 Physical Surface("xsym") = {{6}}; Physical Surface("ysym") = {{3}};
-Physical Surface("top") = {{1}}; Physical Surface("bottom") = {{2}};
+Physical Surface("top") = {{2}}; Physical Surface("bottom") = {{1}};
 Field[1] = MathEval;
 Field[1].F = "min({}, {} + {}*max(0, sqrt(x*x + y*y + z*z) - {}))";
 Background Field = 1;
 Mesh.MeshSizeExtendFromBoundary = 0; Mesh.MeshSizeFromPoints = 0; Mesh.MeshSizeFromCurvature = 0;
 )geo",
-                     num(L), num(h_max), num(h_c), num(growth), num(r_fine));
+                     num(h_max), num(h_c), num(growth), num(r_fine));
 }
 
 /// Hertz: a rigid sphere of radius R pressed by δ into an elastic half-space (E*).
@@ -537,23 +525,8 @@ TEST(VerifyContactClosingGap, APlaneRisingThroughTheGapCompressesTheBlockExactly
   const double g = 1e-3;
   verify::TempDir dir("contact-gap");
   verify::write_file(dir / "box.geo", verify::box_geo(1, 1, 1, 0.5));
-  const std::string yaml = fmt::format(R"yaml(mesh: {{file: box.geo, order: 2}}
-materials:
-  - {{E: {}, nu: {}}}
-boundary:
-  - {{region: x0, displacement: {{x: 0}}}}
-  - {{region: y0, displacement: {{y: 0}}}}
-  - {{region: z1, displacement: {{z: 0}}}}
-contact:
-  - name: floor
-    nodes: z0
-    surface: {{plane: {{point: [0, 0, {}], normal: [0, 0, 1]}}}}
-    motion: [0, 0, "{}*t"]
-    penetration: 1e-12
-solver: {{times: [0.25, 0.5, 0.75, 1], tolerance: 1e-12}}
-output: {{reactions: [z1]}}
-)yaml",
-                                       num(E), num(nu), num(-g), num(3 * g));
+  const std::string yaml = verify::block_on_plane_case(
+      "{file: box.geo, order: 2}", -g, num(3 * g) + "*t", "0.25, 0.5, 0.75, 1", E, nu);
   const auto run = verify::run_stepped(dir.path(), yaml);
   ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
   ASSERT_EQ(run->all.states.size(), 4u);

@@ -391,14 +391,13 @@ inline std::string cube_msh(int n, GridCells kind, double distortion, double L =
   return b.text(names);
 }
 
-/// A box [0,Lx] x [0,Ly] x [0,Lz] for Gmsh's built-in kernel, meshed into unstructured
-/// tetrahedra of size h at run time. Regions as cube_msh(): body; x0 x1 y0 y1 z0 z1;
-/// p000 p100 p010 p001.
-inline std::string box_geo(double Lx, double Ly, double Lz, double h) {
-  return fmt::format(R"(Lx = {}; Ly = {}; Lz = {}; h = {};
-Mesh.CharacteristicLengthMax = h;
-Point(1) = {{0, 0, 0, h}}; Point(2) = {{Lx, 0, 0, h}}; Point(3) = {{Lx, Ly, 0, h}}; Point(4) = {{0, Ly, 0, h}};
-Point(5) = {{0, 0, Lz, h}}; Point(6) = {{Lx, 0, Lz, h}}; Point(7) = {{Lx, Ly, Lz, h}}; Point(8) = {{0, Ly, Lz, h}};
+/// The Gmsh entities of the box lo..hi (point size h): points 1-4 at z = lo.z and 5-8 at
+/// z = hi.z (counter-clockwise from (lo.x, lo.y)), surfaces 1 (z = lo.z), 2 (z = hi.z),
+/// 3 (y = lo.y), 4 (x = hi.x), 5 (y = hi.y), 6 (x = lo.x), volume 1; no physical groups.
+inline std::string box_entities_geo(const Vec3& lo, const Vec3& hi, double h) {
+  return fmt::format(R"(x0 = {}; y0 = {}; z0 = {}; x1 = {}; y1 = {}; z1 = {}; h = {};
+Point(1) = {{x0, y0, z0, h}}; Point(2) = {{x1, y0, z0, h}}; Point(3) = {{x1, y1, z0, h}}; Point(4) = {{x0, y1, z0, h}};
+Point(5) = {{x0, y0, z1, h}}; Point(6) = {{x1, y0, z1, h}}; Point(7) = {{x1, y1, z1, h}}; Point(8) = {{x0, y1, z1, h}};
 Line(1) = {{1, 2}}; Line(2) = {{2, 3}}; Line(3) = {{3, 4}}; Line(4) = {{4, 1}};
 Line(5) = {{5, 6}}; Line(6) = {{6, 7}}; Line(7) = {{7, 8}}; Line(8) = {{8, 5}};
 Line(9) = {{1, 5}}; Line(10) = {{2, 6}}; Line(11) = {{3, 7}}; Line(12) = {{4, 8}};
@@ -409,14 +408,23 @@ Curve Loop(4) = {{2, 11, -6, -10}}; Plane Surface(4) = {{4}};
 Curve Loop(5) = {{3, 12, -7, -11}}; Plane Surface(5) = {{5}};
 Curve Loop(6) = {{4, 9, -8, -12}}; Plane Surface(6) = {{6}};
 Surface Loop(1) = {{1, 2, 3, 4, 5, 6}}; Volume(1) = {{1}};
-Physical Volume("body") = {{1}};
-Physical Surface("x0") = {{6}}; Physical Surface("x1") = {{4}};
-Physical Surface("y0") = {{3}}; Physical Surface("y1") = {{5}};
-Physical Surface("z0") = {{1}}; Physical Surface("z1") = {{2}};
-Physical Point("p000") = {{1}}; Physical Point("p100") = {{2}};
-Physical Point("p010") = {{4}}; Physical Point("p001") = {{5}};
 )",
-                     num(Lx), num(Ly), num(Lz), num(h));
+                     num(lo.x()), num(lo.y()), num(lo.z()), num(hi.x()), num(hi.y()),
+                     num(hi.z()), num(h));
+}
+
+/// A box [0,Lx] x [0,Ly] x [0,Lz] for Gmsh's built-in kernel, meshed into unstructured
+/// tetrahedra of size h at run time. Regions as cube_msh(): body; x0 x1 y0 y1 z0 z1;
+/// p000 p100 p010 p001.
+inline std::string box_geo(double Lx, double Ly, double Lz, double h) {
+  return fmt::format("Mesh.CharacteristicLengthMax = {};\n", num(h)) +
+         box_entities_geo(Vec3::Zero(), Vec3(Lx, Ly, Lz), h) + R"(Physical Volume("body") = {1};
+Physical Surface("x0") = {6}; Physical Surface("x1") = {4};
+Physical Surface("y0") = {3}; Physical Surface("y1") = {5};
+Physical Surface("z0") = {1}; Physical Surface("z1") = {2};
+Physical Point("p000") = {1}; Physical Point("p100") = {2};
+Physical Point("p010") = {4}; Physical Point("p001") = {5};
+)";
 }
 
 /// A quarter of the ring a <= r <= b (x, y >= 0) of thickness t along z, structured: nr
@@ -497,6 +505,33 @@ inline std::vector<Vec3> point_positions(const Model& model) {
           point_position(tab, q, std::span<const Vec3>(x, nodes.size()));
   }
   return out;
+}
+
+/// A block (the regions of cube_msh() and box_geo()) on the rigid plane z = `plane_z` (normal
+/// +z), held by rollers on x0 and y0 and at z on its top face z1, its bottom face z0 the
+/// contact's nodes; the plane moves along z by `motion` (an expression in t). Elastic E, ν;
+/// `extra` is inserted before the solver line, which gives `times` and tolerance 1e-12
+/// (penetration 1e-12 too: the block's answers are exact); the reaction of z1 is reported.
+inline std::string block_on_plane_case(const std::string& mesh, double plane_z,
+                                       const std::string& motion, const std::string& times,
+                                       double E, double nu, const std::string& extra = "") {
+  return fmt::format(R"(mesh: {}
+materials:
+  - {{E: {}, nu: {}}}
+boundary:
+  - {{region: x0, displacement: {{x: 0}}}}
+  - {{region: y0, displacement: {{y: 0}}}}
+  - {{region: z1, displacement: {{z: 0}}}}
+contact:
+  - name: floor
+    nodes: z0
+    surface: {{plane: {{point: [0, 0, {}], normal: [0, 0, 1]}}}}
+    motion: [0, 0, "{}"]
+    penetration: 1e-12
+{}solver: {{times: [{}], tolerance: 1e-12}}
+output: {{reactions: [z1]}}
+)",
+                     mesh, num(E), num(nu), num(plane_z), motion, extra, times);
 }
 
 }  // namespace hencky::verify
