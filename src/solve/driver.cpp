@@ -44,7 +44,7 @@ std::string describe_mesh(const Mesh& mesh) {
 std::vector<std::string> describe_contact(const Model& model) {
   std::vector<std::string> out;
   for (const ContactBody& b : model.contacts()) {
-    static const char* shapes[] = {"plane", "sphere", "cylinder", "STL mesh"};
+    static const char* shapes[] = {"a plane", "a sphere", "a cylinder", "an STL body"};
     const ContactSpec& s = *b.spec;
     double k_lo = INFINITY, k_hi = 0;
     int touching = 0, quadratic = 0;
@@ -56,7 +56,7 @@ std::vector<std::string> describe_contact(const Model& model) {
       touching += b.surface->signed_distance(b.points[i].x - m0) <= 1e-9 * b.points[i].size;
       quadratic += b.points[i].terms == 3;
     }
-    std::string line = fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on a {}",
+    std::string line = fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on {}",
                                    s.name, b.points.size(), s.nodes, touching,
                                    quadratic ? fmt::format(", {} mid-edge", quadratic) : "",
                                    shapes[static_cast<int>(s.shape)]);
