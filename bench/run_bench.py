@@ -331,12 +331,24 @@ def nearest_node(mesh: dict, point) -> tuple[int, float]:
     return node, float(np.linalg.norm(coords[node] - px))
 
 
+def ccx_num(x: float) -> str:
+    """x for a ccx data line: ccx reads a real from the first 20 characters of its field only
+    (nodes.f: read(textpart(2)(1:20),'(f20.0)')), so a longer %.17g (1.2345678901234567e-05, or
+    a negative number with a leading 0.00) would be cut, or stop ccx with *ERROR reading *NODE.
+    The most significant digits that fit in 20 characters."""
+    for digits in range(17, 5, -1):
+        s = f"{x:.{digits}g}"
+        if len(s) <= 20:
+            return s
+    return s
+
+
 def ccx_mesh_cards(mesh: dict, tets_ccx: np.ndarray) -> list[str]:
     """*NODE (NALL) and *ELEMENT (C3D10, EALL) cards."""
     coords, used = mesh["coords"], mesh["node_tags"]
     out = ["*NODE, NSET=NALL\n"]
     xyz = coords[used]
-    out.append("".join(f"{t},{x:.17g},{y:.17g},{z:.17g}\n" for t, (x, y, z) in zip(used.tolist(), xyz.tolist())))
+    out.append("".join(f"{t},{ccx_num(x)},{ccx_num(y)},{ccx_num(z)}\n" for t, (x, y, z) in zip(used.tolist(), xyz.tolist())))
     out.append("*ELEMENT, TYPE=C3D10, ELSET=EALL\n")
     out.append("".join(f"{e + 1}," + ",".join(map(str, row)) + "\n" for e, row in enumerate(tets_ccx.tolist())))
     return out
