@@ -213,11 +213,12 @@ class StepSolver {
         return true;
       }
       if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
-      const bool refactor = !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
-                            (tangent_changed_ && (options_.matrix_per_iteration() ||
-                                                  (options_.matrix_per_step() && iterations <= 1))) ||
-                            contact_.matrix_stale(trial);
-      if (refactor) assemble_and_factorize(trial);
+      const bool new_elements =
+          !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
+          (tangent_changed_ && (options_.matrix_per_iteration() ||
+                                (options_.matrix_per_step() && iterations <= 1)));
+      const bool refactor = new_elements || contact_.matrix_stale(trial);
+      if (refactor) assemble_and_factorize(trial, new_elements);
       auto t0 = Clock::now();
       failed_in_linear_solver_ = true;
       solver_.solve(rhs, delta_);
@@ -475,8 +476,18 @@ class StepSolver {
     plastic_points_ = n_plastic;
   }
 
-  void assemble_and_factorize(const State& trial) {
+  /// Assembles the matrix (the elements' part only when `new_elements` or when it was never
+  /// kept: a change of the contact alone reuses the elements' part of the last assembly) and
+  /// factorizes it.
+  void assemble_and_factorize(const State& trial, bool new_elements) {
     auto t0 = Clock::now();
+    if (contact_.active() && !new_elements && !element_values_.empty()) {
+      values_ = element_values_;
+      contact_.add_matrix(trial, values_);
+      timings_.assembly += seconds_since(t0);
+      factorize();
+      return;
+    }
     const auto& mesh = m_.mesh();
     scratch_.assign(m_.dofs().n_dofs(), 0.0);
     m_.assembler().matrix_and_vector(
@@ -561,9 +572,17 @@ class StepSolver {
                   b.ke[(3 * bb + j) * nd + 3 * a + i] = b.ke[(3 * a + i) * nd + 3 * bb + j];
         },
         values_, scratch_);
-    if (contact_.active()) contact_.add_matrix(trial, values_);
+    if (contact_.active()) {
+      element_values_ = values_;
+      contact_.add_matrix(trial, values_);
+    }
     timings_.assembly += seconds_since(t0);
-    t0 = Clock::now();
+    factorize();
+  }
+
+  /// Factorizes values_ (analysing the pattern the first time).
+  void factorize() {
+    const auto t0 = Clock::now();
     if (!analyzed_) {
       solver_.analyze(m_.assembler().pattern());
       analyzed_ = true;
@@ -602,6 +621,7 @@ class StepSolver {
   bool matrix_changes_with_temperature_ = false;
   bool analyzed_ = false, factorized_ = false;
   std::vector<double> values_, scratch_, target_, rhs_, delta_;
+  std::vector<double> element_values_;  ///< with contact: the elements' part of values_
   // Plasticity
   bool plastic_ = false;
   SchemeOptions options_;
