@@ -96,6 +96,17 @@ cp "$bd/good.yaml" "$bd/contact.yaml"
 printf 'contact:\n  - name: floor\n    nodes: clamp\n    surface:\n      plane: {point: [0, 0, 0.5], normal: [0, 0, 1]}\n' >>"$bd/contact.yaml"
 ex_bad "bad input: a contact node that starts inside the rigid surface" \
   "contact\.yaml:2[0-9]:[0-9]+: 'contact\[0\]\.surface': contact 'floor': node [0-9]+ of region 'clamp' .* starts inside the rigid surface" "$bd/contact.yaml"
+# A tetrahedron with one face missing: not a closed rigid body.
+printf 'solid open\n' >"$bd/open.stl"
+for f in "0 0 0|0 1 0|1 0 0" "0 0 0|1 0 0|0 0 1" "0 0 0|0 0 1|0 1 0"; do
+  IFS='|' read -r a b c <<<"$f"
+  printf ' facet normal 0 0 0\n  outer loop\n   vertex %s\n   vertex %s\n   vertex %s\n  endloop\n endfacet\n' "$a" "$b" "$c" >>"$bd/open.stl"
+done
+printf 'endsolid open\n' >>"$bd/open.stl"
+cp "$bd/good.yaml" "$bd/open-stl.yaml"
+printf 'contact:\n  - name: punch\n    nodes: clamp\n    surface:\n      mesh: {file: open.stl}\n' >>"$bd/open-stl.yaml"
+ex_bad "bad input: an STL rigid body that is not closed names the file" \
+  "open\.stl:[0-9]+: the surface is not closed" "$bd/open-stl.yaml"
 
 # --- YAML syntax
 ex_variant yaml-flow 's/^mesh: \{file: beam\.geo, order: 2\}/mesh: {file: beam.geo, order: 2/'
