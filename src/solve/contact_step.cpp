@@ -115,6 +115,7 @@ bool ContactStep::matrix_stale(const State& trial) const {
 ContactProgress ContactStep::update(const State& c, State& trial) {
   const auto& bodies = m_->contacts();
   ContactProgress pr;
+  std::vector<std::pair<int, int>> raise;  // (surface, point) whose κ the strategy raises
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const ContactBody& body = bodies[b];
     const SurfaceMotion where{body.surface.get(), m0_[b], m1_[b]};
@@ -143,13 +144,18 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       // allowed one and did not at least halve since the last update, κ is too small for the
       // node: raise it tenfold (up to 1e4 times its start).
       if (!body.spec->stiffness && g > allowed && std::isfinite(prev_gap_[b][i]) &&
-          g > 0.5 * prev_gap_[b][i] && s.kappa < 1e4 * body.initial_kappa(ii)) {
-        s.kappa *= 10;
-        pr.kappa_raised = true;
-      }
+          g > 0.5 * prev_gap_[b][i] && s.kappa < 1e4 * body.initial_kappa(ii))
+        raise.push_back({static_cast<int>(b), ii});
       prev_gap_[b][i] = g;
     }
   }
+  // Only while the contact set holds still: while it changes, gaps jump for other reasons
+  // than a small κ, and a stiffer κ then only sharpens the jumps.
+  if (!pr.set_changed)
+    for (const auto& [b, i] : raise) {
+      trial.contact[b][i].kappa *= 10;
+      pr.kappa_raised = true;
+    }
   progress_ = pr;
   return pr;
 }
