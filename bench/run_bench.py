@@ -694,6 +694,16 @@ def size_for(problem: str, target_dofs: float, work: Path, threads: int) -> tupl
     return msh, secs, best
 
 
+def size_run_dir(msh: Path, work: Path, prefix: str) -> tuple[Path, dict]:
+    """work/<prefix>-<mesh stem>/ holding (a hard link to) the .msh, and the mesh read."""
+    run_dir = work / f"{prefix}-{msh.stem}"
+    run_dir.mkdir(exist_ok=True)
+    local_msh = run_dir / msh.name
+    if not local_msh.exists():
+        os.link(msh, local_msh) if msh.stat().st_dev == run_dir.stat().st_dev else shutil.copy(msh, local_msh)
+    return run_dir, read_msh4(msh)
+
+
 def median(xs):
     xs = [x for x in xs if x is not None]
     return statistics.median(xs) if xs else None

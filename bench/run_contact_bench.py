@@ -554,12 +554,7 @@ def quiet(args):
 
 def bench_size(problem: str, target: int, args, work: Path, exe: Path, hz: Hertz) -> dict:
     msh, gmsh_seconds, hc = rb.size_for(problem, target, work, args.threads)
-    run_dir = work / f"contact-{msh.stem}"
-    run_dir.mkdir(exist_ok=True)
-    local_msh = run_dir / msh.name
-    if not local_msh.exists():
-        os.link(msh, local_msh) if msh.stat().st_dev == run_dir.stat().st_dev else shutil.copy(msh, local_msh)
-    mesh = rb.read_msh4(msh)
+    run_dir, mesh = rb.size_run_dir(msh, work, "contact")
     n_nodes, n_elems = int(len(mesh["node_tags"])), int(len(mesh["tets"]))
     size = dict(target_dofs=target, h_c=hc, a_over_hc=A / hc, msh=str(msh), gmsh_seconds=gmsh_seconds,
                 nodes=n_nodes, elements=n_elems, dofs=3 * n_nodes)
@@ -578,7 +573,7 @@ def bench_size(problem: str, target: int, args, work: Path, exe: Path, hz: Hertz
     print(f"[~{target / 1000:.0f}k unknowns] h_c = {hc:g} m = a/{A / hc:.1f}: {msh.name}, {n_nodes} nodes, "
           f"{n_elems} tetrahedra", flush=True)
     quiet(args)
-    h = run_hencky_size(exe, run_dir, local_msh, args, hz)
+    h = run_hencky_size(exe, run_dir, run_dir / msh.name, args, hz)
     size["hencky"] = h
     if h.get("dofs"):
         size["dofs"] = h["dofs"]

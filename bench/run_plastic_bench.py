@@ -420,12 +420,7 @@ def variants(args) -> list[dict]:
 
 def bench_size(problem: str, target: int, args, work: Path, exe: Path, refs: dict) -> dict:
     msh, gmsh_seconds, h = rb.size_for(problem, target, work, args.threads)
-    run_dir = work / f"plastic-{msh.stem}"
-    run_dir.mkdir(exist_ok=True)
-    local_msh = run_dir / msh.name
-    if not local_msh.exists():
-        os.link(msh, local_msh) if msh.stat().st_dev == run_dir.stat().st_dev else shutil.copy(msh, local_msh)
-    mesh = rb.read_msh4(msh)
+    run_dir, mesh = rb.size_run_dir(msh, work, "plastic")
     n_nodes, n_elems = int(len(mesh["node_tags"])), int(len(mesh["tets"]))
     size = dict(target_dofs=target, h=h, msh=str(msh), gmsh_seconds=gmsh_seconds, nodes=n_nodes,
                 elements=n_elems, runs=[])
@@ -447,7 +442,7 @@ def bench_size(problem: str, target: int, args, work: Path, exe: Path, refs: dic
             if prog == "ccx":
                 row = run_ccx_case(run_dir, *ccx_inputs[v["name"]], v, args)
             else:
-                row = run_hencky_case(exe, run_dir, local_msh, prog, v, args)
+                row = run_hencky_case(exe, run_dir, run_dir / msh.name, prog, v, args)
             row["error_hill"] = errors(row.get("u_outer"), ref["hill"])
             row["error_ref"] = errors(row.get("u_outer"), ref["u_outer"])
             if row.get("dofs"):
