@@ -176,6 +176,10 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
   }
   history_ << '\n';
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
+  // A run that stops before its first step converges still reports the three groups (empty).
+  final_values_ = {{"probes", nlohmann::json::object()},
+                   {"reactions", nlohmann::json::object()},
+                   {"contact", nlohmann::json::object()}};
 }
 
 ResultWriter::~ResultWriter() {

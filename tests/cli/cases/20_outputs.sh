@@ -176,6 +176,12 @@ s["status"] == "not-converged" and s["steps"] == 1 and "failure" in s
 and os.path.exists(sys.argv[1].replace("summary.json", "step_0001.vtu"))
 and "step_0001.vtu" in open(sys.argv[1].replace("summary.json", "results.pvd")).read()'
 
+# The first step cannot converge: status 2 and a summary that still has its three groups.
+sed -e 's/"t > 0.5 ? -1000 : 0"/"-1000*t"/' "$od/stuck.yaml" >"$od/stuck-first.yaml"
+expect "exit 2 when the first step does not converge" 2 "did not converge" -- run "$od/stuck-first.yaml"
+ex_check "exit 2 at step 1: summary with steps 0 and empty probes, reactions, contact" "$od/stuck-first.out/summary.json" '
+s["status"] == "not-converged" and s["steps"] == 0 and s["probes"] == {} and s["reactions"] == {} and s["contact"] == {}'
+
 # --- -o naming an existing folder that is not a hencky output: refused, left alone.
 mkdir -p "$od/not-results"; echo "precious" >"$od/not-results/thesis.tex"
 expect "run -o on an unrelated folder: refused (exit 1)" 1 "not a hencky output directory" -- run "$od/case.yaml" -o "$od/not-results" --quiet
