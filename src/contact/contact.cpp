@@ -93,6 +93,24 @@ double ContactBody::initial_kappa(int i) const {
   return spec->stiffness ? *spec->stiffness : auto_kappa_factor * points[i].stiffness;
 }
 
+ContactTotals contact_totals(const ContactBody& body, const std::vector<ContactNode>& states,
+                             const std::vector<double>& u) {
+  ContactTotals t;
+  for (std::size_t i = 0; i < body.points.size(); ++i) {
+    const ContactPoint& p = body.points[i];
+    const ContactNode& s = states[i];
+    t.max_penetration = std::max(t.max_penetration, -s.gap);
+    t.max_penetration_relative = std::max(t.max_penetration_relative, -s.gap / p.size);
+    if (!s.contact) continue;
+    const Vec3 f = contact_force(s, contact_position(p, u));
+    ++t.nodes;
+    t.force += f.dot(s.normal);
+    t.max_pressure = std::max(t.max_pressure, f.dot(s.normal) / p.area);
+    t.resultant += f;  // Σ T̃ᵀF̃ over the mesh nodes is Σ F̃: each row of T̃ sums to 1
+  }
+  return t;
+}
+
 
 
 // ---------------------------------------------------------------------------------------------

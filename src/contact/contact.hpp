@@ -89,6 +89,7 @@ struct ContactPoint {
   double area = 0;        ///< tributary area ∫Ñ dA over the region's faces (> 0)
   double size = 0;        ///< local element size h: root mean square of the faces' √area
   double stiffness = 0;   ///< stiffness scale of the mesh at the node: tr(K_aa)/3, elastic at T_ref
+  double gap0 = 0;        ///< signed distance from the surface at t = 0 (set with the surface)
 };
 
 /// The point's position for nodal displacements u (3 per mesh node): x + Σ coef·u.
@@ -112,7 +113,25 @@ struct ContactBody {
   double initial_kappa(int i) const;
   /// Allowed |gap| of a node in contact: `penetration` times the local element size.
   double allowed_gap(int i) const { return spec->penetration * points[i].size; }
+  /// Point i touches the surface at t = 0 (to round-off of its element size, or inside it:
+  /// the Model rejects starts deeper than allowed_gap); it then starts in Contact.
+  bool touches_at_start(int i) const { return points[i].gap0 <= 1e-9 * points[i].size; }
 };
+
+/// What one contact reports for a state: Σ of the nodes' normal forces, the nodes in contact,
+/// the resultant force of the support on the body, the largest penetration (also relative to
+/// the element size) and the largest nodal contact pressure.
+struct ContactTotals {
+  double force = 0;
+  int nodes = 0;
+  Vec3 resultant = Vec3::Zero();
+  double max_penetration = 0;
+  double max_penetration_relative = 0;
+  double max_pressure = 0;
+};
+/// The totals of `body` for its points' states and the nodal displacements u.
+ContactTotals contact_totals(const ContactBody& body, const std::vector<ContactNode>& states,
+                             const std::vector<double>& u);
 
 /// κ = auto starts at this multiple of the stiffness tr(K_aa)/3 of the node's elements: large
 /// enough that the augmented update (3.4) removes about 90 % of the penetration per iteration,

@@ -84,21 +84,8 @@ std::vector<Vec3> region_reactions(const Model& model, const State& state) {
 
 std::vector<ContactTotals> contact_totals(const Model& model, const State& state) {
   std::vector<ContactTotals> out;
-  const auto& bodies = model.contacts();
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    ContactTotals t;
-    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
-      const ContactNode& s = state.contact[b][i];
-      t.max_penetration = std::max(t.max_penetration, -s.gap);
-      if (!s.contact) continue;
-      const Vec3 f = contact_force(s, contact_position(bodies[b].points[i], state.u));
-      ++t.nodes;
-      t.force += f.dot(s.normal);
-      t.max_pressure = std::max(t.max_pressure, f.dot(s.normal) / bodies[b].points[i].area);
-      t.resultant += f;  // Σ T̃ᵀF̃ over the mesh nodes is Σ F̃: each row of T̃ sums to 1
-    }
-    out.push_back(t);
-  }
+  for (std::size_t b = 0; b < model.contacts().size(); ++b)
+    out.push_back(contact_totals(model.contacts()[b], state.contact[b], state.u));
   return out;
 }
 

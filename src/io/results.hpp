@@ -39,16 +39,7 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
 /// F_contact).
 std::vector<Vec3> region_reactions(const Model& model, const State& state);
 
-/// What a contact reports per step: Σ of the nodes' normal forces, the nodes in contact, the
-/// resultant force of the support on the body, the largest penetration and the largest nodal
-/// contact pressure.
-struct ContactTotals {
-  double force = 0;
-  int nodes = 0;
-  Vec3 resultant = Vec3::Zero();
-  double max_penetration = 0;
-  double max_pressure = 0;
-};
+/// contact_totals (contact/contact.hpp) of every contact of the model, in case order.
 std::vector<ContactTotals> contact_totals(const Model& model, const State& state);
 
 /// Nodal contact fields: pressure (normal force over the tributary area), state (0 free,

@@ -30,7 +30,7 @@ double norm(const std::vector<double>& v) {
 class StepSolver {
  public:
   StepSolver(const Model& m, LinearSolver& solver, Log& log, Timings& timings)
-      : m_(m), solver_(solver), log_(log), timings_(timings), contact_(m, log) {
+      : m_(m), solver_(solver), log_(log), timings_(timings), contact_(m) {
     values_.resize(m.assembler().pattern().nnz());
     plastic_ = m.has_plasticity();
     options_.kind = scheme_from_name(m.spec().solver.scheme);
@@ -138,7 +138,7 @@ class StepSolver {
 
     // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) +
     // F_contact(t) − F_int(t): with γ = 1 the defect left by the previous step is corrected in
-    // full. The support's forces of the step are part of the residual (contact_residual), so
+    // full. The support's forces of the step are part of the residual (residual_vector), so
     // that R(t) carries ⁽ᵗ⁾F as (3.6) asks.
     const double gamma = spec.correction;
     target_.resize(dofs.n_dofs());
@@ -162,10 +162,11 @@ class StepSolver {
         contact_.update(c, trial);
         timings_.contact += seconds_since(t0);
       }
-      double r = residual_vector(trial);
+      double r_loads = 0;  // the residual without the supports' forces
+      double r = residual_vector(trial, &r_loads);
       if (iterations == 0) {
-        f_norm = std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int),
-                           std::sqrt(contact_.active() ? load_residual(trial) : r)});
+        f_norm =
+            std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(r_loads)});
         r = extrapolated_start(c, trial, r);
       }
       // With contact, the force a surface's travel puts on the first iterate (κ times the
@@ -299,28 +300,24 @@ class StepSolver {
   }
 
   /// rhs_ = target + F_contact − F_int on the free dofs for the evaluated iterate (the
-  /// support's forces computed here, into trial.f_contact); returns its squared norm.
-  double residual_vector(State& trial) {
+  /// support's forces computed here, into trial.f_contact); returns its squared norm, and in
+  /// *loads2 (when given) that of target − F_int, the residual without the supports.
+  double residual_vector(State& trial, double* loads2 = nullptr) {
     const auto& dofs = m_.dofs();
     if (contact_.active()) {
       const auto t0 = Clock::now();
       contact_.forces(trial);
       timings_.contact += seconds_since(t0);
     }
-    double r2 = 0;
+    double r2 = 0, l2 = 0;
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (int k = dofs.eq[i]; k >= 0) {
-        rhs_[k] = target_[i] + trial.f_contact[i] - trial.f_int[i];
+        const double loads = target_[i] - trial.f_int[i];
+        rhs_[k] = loads + trial.f_contact[i];
         r2 += rhs_[k] * rhs_[k];
+        l2 += loads * loads;
       }
-    return r2;
-  }
-
-  /// ‖target − F_int‖² on the free dofs: the residual without the supports' forces.
-  double load_residual(const State& trial) const {
-    double r2 = 0;
-    for (int i = 0; i < m_.dofs().n_dofs(); ++i)
-      if (m_.dofs().eq[i] >= 0) r2 += (target_[i] - trial.f_int[i]) * (target_[i] - trial.f_int[i]);
+    if (loads2) *loads2 = l2;
     return r2;
   }
 

@@ -6,15 +6,17 @@
 
 namespace hencky {
 
-ContactStep::ContactStep(const Model& m, Log& log) : m_(&m), log_(&log) {
+ContactStep::ContactStep(const Model& m) : m_(&m) {
   const auto& bodies = m.contacts();
   m0_.assign(bodies.size(), Vec3::Zero());
   m1_.assign(bodies.size(), Vec3::Zero());
   flips_.resize(bodies.size());
   prev_gap_.resize(bodies.size());
+  r_t_.resize(bodies.size());
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     flips_[b].assign(bodies[b].points.size(), 0);
     prev_gap_[b].assign(bodies[b].points.size(), NAN);
+    r_t_[b].resize(bodies[b].points.size());
   }
 }
 
@@ -34,13 +36,11 @@ void ContactStep::initial(State& s) const {
     for (std::size_t i = 0; i < body.points.size(); ++i) {
       ContactNode& n = states[i];
       n.kappa = body.initial_kappa(static_cast<int>(i));
-      const Vec3 p = body.points[i].x - m0;
-      n.gap = body.surface->signed_distance(p);
-      const SurfacePoint q = body.surface->nearest(p);
+      n.gap = body.points[i].gap0;
+      const SurfacePoint q = body.surface->nearest(body.points[i].x - m0);
       n.point = q.x + m0;
       n.normal = q.n;
-      // Touching: within round-off of the surface (Model rejects deeper starts).
-      n.contact = n.gap <= 1e-9 * body.points[i].size;
+      n.contact = body.touches_at_start(static_cast<int>(i));
     }
   }
 }
@@ -54,6 +54,8 @@ void ContactStep::begin(const State& c, State& trial) {
     for (ContactNode& n : trial.contact[b]) n.point += m1_[b] - m0_[b];
     std::fill(flips_[b].begin(), flips_[b].end(), 0);
     std::fill(prev_gap_[b].begin(), prev_gap_[b].end(), NAN);
+    for (std::size_t i = 0; i < r_t_[b].size(); ++i)
+      r_t_[b][i] = position(static_cast<int>(b), static_cast<int>(i), c.u);
   }
   progress_ = ContactProgress{};
   for (const auto& states : trial.contact)
@@ -123,7 +125,7 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       const int ii = static_cast<int>(i);
       ContactNode& s = trial.contact[b][i];
       const bool was_contact = s.contact, was_separation = s.separation;
-      update_contact_node(s, c.contact[b][i], position(static_cast<int>(b), ii, c.u),
+      update_contact_node(s, c.contact[b][i], r_t_[b][i],
                           position(static_cast<int>(b), ii, trial.u), where);
       if (s.contact != was_contact || s.separation != was_separation) pr.set_changed = true;
       if (s.contact != was_contact && ++flips_[b][i] > max_flips)
@@ -197,21 +199,12 @@ std::string ContactStep::summary(const State& s) const {
   std::string out;
   const auto& bodies = m_->contacts();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    int n = 0;
-    double force = 0, pen = 0, pen_rel = 0;
-    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
-      const ContactNode& c = s.contact[b][i];
-      pen = std::max(pen, -c.gap);
-      pen_rel = std::max(pen_rel, -c.gap / bodies[b].points[i].size);
-      if (!c.contact) continue;
-      ++n;
-      force += contact_force(c, position(static_cast<int>(b), static_cast<int>(i), s.u))
-                   .dot(c.normal);
-    }
+    const ContactTotals t = contact_totals(bodies[b], s.contact[b], s.u);
     if (!out.empty()) out += "; ";
     out += fmt::format("contact '{}': {} nodes, normal force {:.4g}, largest penetration {:.2e} "
                        "({:.1e} of the element size)",
-                       bodies[b].spec->name, n, force, pen, pen_rel);
+                       bodies[b].spec->name, t.nodes, t.force, t.max_penetration,
+                       t.max_penetration_relative);
   }
   return out;
 }

@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "io/log.hpp"
 #include "solve/analysis.hpp"
 
 namespace hencky {
@@ -25,7 +24,7 @@ struct ContactProgress {
 
 class ContactStep {
  public:
-  ContactStep(const Model& m, Log& log);
+  explicit ContactStep(const Model& m);
   bool active() const { return !m_->contacts().empty(); }
 
   /// The states at t = 0: nodes that touch a surface (to round-off, or within the allowed
@@ -61,9 +60,9 @@ class ContactStep {
   Vec3 position(int body, int i, const std::vector<double>& u) const;
 
   const Model* m_;
-  Log* log_;
   std::vector<Vec3> m0_, m1_;  ///< translation of each surface at t and t + Δt
   // Per surface and point, during a step:
+  std::vector<std::vector<Vec3>> r_t_;          ///< the position at t (fixed in the step)
   std::vector<std::vector<int>> flips_;         ///< changes of Contact
   std::vector<std::vector<double>> prev_gap_;   ///< |gap| at the previous update (in contact)
   std::vector<std::vector<ContactNode>> assembled_;  ///< the states whose G is in the matrix

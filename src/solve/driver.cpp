@@ -48,12 +48,11 @@ std::vector<std::string> describe_contact(const Model& model) {
     const ContactSpec& s = *b.spec;
     double k_lo = INFINITY, k_hi = 0;
     int touching = 0, quadratic = 0;
-    const Vec3 m0 = b.motion(0);
     for (std::size_t i = 0; i < b.points.size(); ++i) {
       const double k = b.initial_kappa(static_cast<int>(i));
       k_lo = std::min(k_lo, k);
       k_hi = std::max(k_hi, k);
-      touching += b.surface->signed_distance(b.points[i].x - m0) <= 1e-9 * b.points[i].size;
+      touching += b.touches_at_start(static_cast<int>(i));
       quadratic += b.points[i].terms == 3;
     }
     std::string line = fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on {}",

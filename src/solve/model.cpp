@@ -305,7 +305,7 @@ void Model::bind_contact() {
     // set-up error (the surface or the mesh is misplaced), not something to push out.
     const Vec3 m0 = body.motion(0);
     for (std::size_t i = 0; i < body.points.size(); ++i) {
-      const double d = body.surface->signed_distance(body.points[i].x - m0);
+      const double d = body.points[i].gap0 = body.surface->signed_distance(body.points[i].x - m0);
       if (d < -body.allowed_gap(static_cast<int>(i)))
         throw InputError(
             spec.surface_where,

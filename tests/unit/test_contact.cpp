@@ -221,7 +221,7 @@ struct CubeContactStep {
     verify::write_file(dir.path() / "cube.msh", verify::cube_msh(1, verify::GridCells::hex8, 0));
     verify::write_file(dir.path() / "case.yaml", yaml);
     loaded = load_case(dir.path() / "case.yaml", log);
-    contact = std::make_unique<ContactStep>(model(), log);
+    contact = std::make_unique<ContactStep>(model());
     c.u.assign(model().dofs().n_dofs(), 0.0);
     contact->initial(c);
     trial = c;
