@@ -694,6 +694,19 @@ def size_for(problem: str, target_dofs: float, work: Path, threads: int) -> tupl
     return msh, secs, best
 
 
+def add_common_arguments(ap: argparse.ArgumentParser) -> None:
+    """The options the plastic and contact benchmarks share."""
+    ap.add_argument("--no-ccx", action="store_true", help="do not run CalculiX")
+    ap.add_argument("--threads", type=int, default=os.cpu_count(), help="threads for hencky and ccx (default: all cores)")
+    ap.add_argument("--hencky-env", action="append", default=[], metavar="NAME=VALUE", help="extra environment for hencky")
+    ap.add_argument("--wait-quiet", type=float, default=30.0,
+                    help="before each run wait up to this many seconds for other programs to leave the CPU (0: never)")
+    ap.add_argument("--work", type=Path, default=BENCH / "work", help="meshes and runs (default bench/work)")
+    ap.add_argument("--results", type=Path, default=BENCH / "results")
+    ap.add_argument("--keep-output", action="store_true", help="keep hencky's output folders and ccx's .frd")
+    ap.add_argument("--report", type=Path, help="run nothing: print the markdown of this results .json")
+
+
 def size_run_dir(msh: Path, work: Path, prefix: str) -> tuple[Path, dict]:
     """work/<prefix>-<mesh stem>/ holding (a hard link to) the .msh, and the mesh read."""
     run_dir = work / f"{prefix}-{msh.stem}"

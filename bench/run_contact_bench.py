@@ -789,18 +789,10 @@ def main():
     ap.add_argument("--ccx-timeout", type=float, default=1800, help="time limit of one ccx run, s (default 1800); 0: none")
     ap.add_argument("--ccx-max-dofs", type=float, default=100000,
                     help="run ccx only up to this target size (default 100000: not at ~150k, ~30 min; 0: all)")
-    ap.add_argument("--no-ccx", action="store_true", help="do not run CalculiX")
-    ap.add_argument("--threads", type=int, default=os.cpu_count(), help="threads for hencky and ccx (default: all cores)")
-    ap.add_argument("--hencky-env", action="append", default=[], metavar="NAME=VALUE", help="extra environment for hencky")
     ap.add_argument("--wait-load", type=float, default=900.0,
                     help="before the runs wait up to this many seconds for the 1-min load to drop below --load-below (0: never)")
     ap.add_argument("--load-below", type=float, default=1.0, help="see --wait-load (default 1.0)")
-    ap.add_argument("--wait-quiet", type=float, default=30.0,
-                    help="before each run wait up to this many seconds for other programs to leave the CPU (0: never)")
-    ap.add_argument("--work", type=Path, default=BENCH / "work", help="meshes and runs (default bench/work)")
-    ap.add_argument("--results", type=Path, default=BENCH / "results")
-    ap.add_argument("--keep-output", action="store_true", help="keep hencky's output folder and ccx's .frd")
-    ap.add_argument("--report", type=Path, help="run nothing: print the markdown of this results .json")
+    rb.add_common_arguments(ap)
     args = ap.parse_args()
 
     if args.report:

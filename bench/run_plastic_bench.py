@@ -622,16 +622,8 @@ def main():
     ap.add_argument("--linear", choices=("direct", "iterative"), default="direct", help="hencky solver.linear")
     ap.add_argument("--timeout", type=float, default=1800, help="time limit of one hencky run, s (default 1800); 0: none")
     ap.add_argument("--ccx-timeout", type=float, default=None, help="time limit of one ccx run, s (default: --timeout)")
-    ap.add_argument("--no-ccx", action="store_true", help="do not run CalculiX")
-    ap.add_argument("--threads", type=int, default=os.cpu_count(), help="threads for hencky and ccx (default: all cores)")
-    ap.add_argument("--hencky-env", action="append", default=[], metavar="NAME=VALUE", help="extra environment for hencky")
-    ap.add_argument("--wait-quiet", type=float, default=30.0,
-                    help="before each run wait up to this many seconds for other programs to leave the CPU (0: never)")
     ap.add_argument("--ref-elements", type=int, default=200, help="quadratic elements of the 1D reference (default 200)")
-    ap.add_argument("--work", type=Path, default=BENCH / "work", help="meshes and runs (default bench/work)")
-    ap.add_argument("--results", type=Path, default=BENCH / "results")
-    ap.add_argument("--keep-output", action="store_true", help="keep hencky's output folders and ccx's .frd")
-    ap.add_argument("--report", type=Path, help="run nothing: print the markdown of this results .json")
+    rb.add_common_arguments(ap)
     args = ap.parse_args()
 
     if args.report:
