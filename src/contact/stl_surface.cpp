@@ -357,6 +357,11 @@ StlSurface::StlSurface(const fs::path& file, double scale) {
   // Angle-weighted pseudo-normals (Bærentzen and Aanæs 2005): an edge's is the sum of its two
   // faces' normals (both weighted by pi), a vertex's the sum of its faces' normals weighted by
   // the angle of each face at the vertex.
+  auto corner_angle = [&](int t, int k) {  // the angle of triangle t at its corner k
+    const Vec3& x = x_[tri_[t][k]];
+    const Vec3 u = x_[tri_[t][(k + 1) % 3]] - x, v = x_[tri_[t][(k + 2) % 3]] - x;
+    return std::atan2(u.cross(v).norm(), u.dot(v));
+  };
   edge_n_.resize(3 * n_t);
   vertex_n_.assign(x_.size(), Vec3::Zero());
   for (int t = 0; t < n_t; ++t) {
@@ -364,9 +369,7 @@ StlSurface::StlSurface(const fs::path& file, double scale) {
       const Vec3 sum = face_n_[t] + face_n_[edge_nb_[3 * t + k]];
       // Two faces back to back (a knife edge) have no pseudo-normal: take the face's own.
       edge_n_[3 * t + k] = sum.norm() > 1e-8 ? sum.normalized() : face_n_[t];
-      const Vec3& x = x_[tri_[t][k]];
-      const Vec3 u = x_[tri_[t][(k + 1) % 3]] - x, v = x_[tri_[t][(k + 2) % 3]] - x;
-      vertex_n_[tri_[t][k]] += std::atan2(u.cross(v).norm(), u.dot(v)) * face_n_[t];
+      vertex_n_[tri_[t][k]] += corner_angle(t, k) * face_n_[t];
     }
   }
   for (Vec3& n : vertex_n_) n.normalize();
@@ -383,11 +386,6 @@ StlSurface::StlSurface(const fs::path& file, double scale) {
     for (int t = 0; t < n_t; ++t)
       for (int k = 0; k < 3; ++k) vt_idx[fill[tri_[t][k]]++] = 3 * t + k;
   }
-  auto corner_angle = [&](int t, int k) {
-    const Vec3& x = x_[tri_[t][k]];
-    const Vec3 u = x_[tri_[t][(k + 1) % 3]] - x, v = x_[tri_[t][(k + 2) % 3]] - x;
-    return std::atan2(u.cross(v).norm(), u.dot(v));
-  };
   corner_n_.resize(3 * n_t);
   edge_smooth_.resize(3 * n_t);
   vertex_smooth_.assign(x_.size(), 1);
