@@ -14,6 +14,7 @@
 #include "io/case.hpp"
 #include "io/log.hpp"
 #include "io/results.hpp"
+#include "parallel/mpi.hpp"
 #include "solve/analysis.hpp"
 #include "solve/driver.hpp"
 
@@ -29,11 +30,70 @@ long peak_memory_bytes() {
   return static_cast<long>(u.ru_maxrss) * 1024;
 }
 
-int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
+/// Steps no rank may fail alone: every rank reports whether `f` threw, and all stop together
+/// when one did. Root prints each rank's message once (ranks with the same message together).
+/// Returns the exit status (0: all went well).
+template <class F>
+int together(F&& f) {
+  int code = 0;
+  std::string message;
+  try {
+    f();
+  } catch (const InputError& e) {
+    code = 1, message = std::string("error: ") + e.what();
+  } catch (const std::exception& e) {
+    code = 3, message = std::string("internal error: ") + e.what();
+  }
+  if (par::size() == 1) {
+    if (code) std::cerr << message << "\n";
+    return code;
+  }
+  const int worst = par::max(code);
+  if (worst == 0) return 0;
+  const auto messages = par::gather_strings(code ? message : std::string());
+  if (par::root()) {
+    std::map<std::string, std::vector<int>> ranks_of;
+    for (std::size_t r = 0; r < messages.size(); ++r)
+      if (!messages[r].empty()) ranks_of[messages[r]].push_back(static_cast<int>(r));
+    for (const auto& [text, ranks] : ranks_of) {
+      if (ranks.size() == messages.size()) {
+        std::cerr << text << "\n";
+        continue;
+      }
+      std::string who;
+      for (int r : ranks) who += (who.empty() ? "" : ", ") + std::to_string(r);
+      std::cerr << fmt::format("rank{} {}: {}\n", ranks.size() > 1 ? "s" : "", who, text);
+    }
+  }
+  return worst;
+}
+
+/// Peak resident memory of this process and, in a parallel run, the largest and the total
+/// over the ranks (collective).
+void add_memory(nlohmann::json& summary) {
+  const long long mine = peak_memory_bytes();
+  summary["peak_memory_bytes"] = par::max(mine);
+  if (par::size() > 1) summary["peak_memory_bytes_all_ranks"] = par::sum(mine);
+}
+
+int run(const std::string& case_path, const std::string& out_dir, bool quiet,
+        const std::string& petsc_options) {
   const auto t_start = Clock::now();
   Log log;
   log.quiet = quiet;
-  LoadedCase l = load_case(case_path, log);
+  log.silent = !par::root();
+  LoadedCase l;
+  if (int code = together([&] { l = load_case(case_path, log); })) return code;
+  // Every rank read its own copy of the case: they must all have read the same.
+  const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
+                              l.model->dofs().n_free};
+  for (long long v : shape)
+    if (par::max(v) != -par::max(-v)) {
+      if (par::root())
+        std::cerr << "error: the ranks read different models (node, element or unknown "
+                     "counts differ): give every rank the same case file and mesh\n";
+      return 1;
+    }
   const Model& model = *l.model;
   const Case& c = *l.spec;
   const fs::path dir = out_dir.empty() ? c.output.dir : fs::absolute(out_dir);
@@ -41,20 +101,28 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
-  auto solver = make_linear_solver(c.solver.linear == SolverSpec::Linear::iterative
-                                       ? LinearSolverKind::iterative
-                                       : LinearSolverKind::direct);
-  ResultWriter writer(model, dir, log);
+  std::unique_ptr<LinearSolver> solver;
+  if (int code = together([&] { solver = make_run_solver(model, log, petsc_options); }))
+    return code;
+  // Root writes every output (the other ranks' integration-point values are gathered to it).
+  std::unique_ptr<ResultWriter> writer;
+  if (par::root()) writer = std::make_unique<ResultWriter>(model, dir, log);
+  struct : StepObserver {
+    void step_done(const StepReport&, const State&) override {}
+  } nothing;  // the other ranks' observer
   Timings timings;
   AnalysisResult result;
   try {
-    result = run_analysis(model, *solver, log, timings, writer);
+    result = run_analysis(model, *solver, log, timings,
+                          writer ? static_cast<StepObserver&>(*writer) : nothing);
   } catch (const InputError&) {
-    writer.abandon();  // bad input: nothing is overwritten or left behind
+    if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;
   }
-  const auto& st = solver->stats();
   nlohmann::json summary;
+  add_memory(summary);
+  if (!par::root()) return result.status == AnalysisStatus::converged ? 0 : 2;
+  const auto& st = solver->stats();
   summary["hencky"] = HENCKY_VERSION;
   summary["title"] = c.title;
   summary["status"] = result.status == AnalysisStatus::converged ? "converged" : "not-converged";
@@ -68,6 +136,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
   summary["elements"] = model.mesh().cells.size();
   summary["integration_points"] = model.n_points();
   summary["threads"] = omp_get_max_threads();
+  summary["ranks"] = par::size();
   summary["linear_solver"] = {{"method", st.description},
                               {"analyses", st.n_analyses},
                               {"factorizations", st.n_factorizations},
@@ -79,14 +148,13 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet) {
     summary["linear_solver"]["factor_gflops_per_second"] =
         st.factor_flops * st.n_factorizations / timings.factorization * 1e-9;
   summary["warnings"] = log.warnings();
-  for (auto& [k, v] : writer.final_values().items()) summary[k] = v;
+  for (auto& [k, v] : writer->final_values().items()) summary[k] = v;
   summary["wall_seconds"] = {{"mesh", l.mesh_seconds},     {"setup", l.setup_seconds},
                              {"assembly", timings.assembly}, {"factorization", timings.factorization},
                              {"solve", timings.solve},       {"material", timings.material},
                              {"output", timings.output},     {"contact", timings.contact},
                              {"total", since(t_start)}};
-  summary["peak_memory_bytes"] = peak_memory_bytes();
-  writer.finish(summary);
+  writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            result.status == AnalysisStatus::converged ? "converged" : "stopped", since(t_start),
            result.steps, result.iterations, dir.string());
@@ -120,6 +188,13 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--output", out_dir, "output directory (default: output.dir of the case)");
   run_cmd->add_option("--threads", threads, "threads for assembly (default: all cores)");
   run_cmd->add_flag("--quiet", quiet, "no progress lines on the terminal");
+  // PETSc options go in one argument: PETSc's own option names (-o..., -h...) would otherwise
+  // be read as hencky's short options.
+  std::vector<std::string> petsc_args;
+  run_cmd->add_option("--petsc", petsc_args,
+                      "PETSc options for the PETSc back end, in one quoted argument, e.g. "
+                      "--petsc \"-pc_type hypre -ksp_monitor\"; they override "
+                      "solver.petsc_options (the environment variable PETSC_OPTIONS also works)");
   auto* check_cmd = app.add_subcommand("check", "read and validate a case and its mesh, solve nothing");
   check_cmd->add_option("case", case_path, "case file (YAML)")->required();
   try {
@@ -129,14 +204,27 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 1;
   }
   if (threads > 0) omp_set_num_threads(threads);
+  std::string petsc_options;
+  for (const auto& a : petsc_args) petsc_options += (petsc_options.empty() ? "" : " ") + a;
+  // Under mpirun every rank starts MPI and PETSc here; a serial run starts them only if its
+  // case asks for the PETSc back end.
+  if (par::launched_by_mpirun()) par::start(&argc, &argv);
+  int status = 0;
   try {
-    if (run_cmd->parsed()) return run(case_path, out_dir, quiet);
-    return check(case_path);
+    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options) : check(case_path);
   } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    // Errors of the analysis reach every rank alike (its decisions are collective).
+    if (par::root()) std::cerr << "error: " << e.what() << "\n";
+    status = 1;
   } catch (const std::exception& e) {
+    if (par::size() > 1) {
+      // Only this rank may have failed: the others wait in a collective call. Stop them all.
+      std::cerr << fmt::format("rank {}: internal error: {}\n", par::rank(), e.what());
+      par::abort_all(3);
+    }
     std::cerr << "internal error: " << e.what() << "\n";
-    return 3;
+    status = 3;
   }
+  par::finish();
+  return status;
 }

@@ -91,7 +91,7 @@ const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 const std::vector<std::string> solver_keys = {
     "scheme",         "curve_form",      "steps",      "end",         "times",
     "max_iterations", "tolerance",       "relaxation", "correction",  "cutback",
-    "linear",         "mechanism_limit", "predictor",  "acceleration"};
+    "linear",         "mechanism_limit", "predictor",  "acceleration", "petsc_options"};
 const std::vector<std::string> contact_keys = {"name",   "nodes",     "surface",
                                                "motion", "stiffness", "penetration"};
 const std::vector<std::string> surface_kinds = {"plane", "sphere", "cylinder", "mesh"};
@@ -946,9 +946,23 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
   }
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
-    if (l == "petsc")
-      r.fail(*x, "the petsc back end is not available in this version (use direct or iterative)");
-    s.linear = l == "direct" ? SolverSpec::Linear::direct : SolverSpec::Linear::iterative;
+    s.linear = l == "direct"      ? SolverSpec::Linear::direct
+               : l == "iterative" ? SolverSpec::Linear::iterative
+                                  : SolverSpec::Linear::petsc;
+  }
+  if (auto x = m.get("petsc_options")) {
+    s.petsc_options = r.string(*x);
+    // Only options: a token that is no option must be the value of the one before it.
+    std::istringstream in(s.petsc_options);
+    std::string token, previous;
+    while (in >> token) {
+      const bool option = token.size() > 1 && token[0] == '-' &&
+                          !std::isdigit(static_cast<unsigned char>(token[1])) && token[1] != '.';
+      if (!option && (previous.empty() || previous[0] != '-'))
+        r.fail(*x, "expected PETSc options such as \"-ksp_type cg -pc_type hypre\"; '" + token +
+                       "' is neither an option (starting with '-') nor the value of one");
+      previous = option ? token : std::string();
+    }
   }
   return s;
 }

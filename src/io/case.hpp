@@ -168,7 +168,12 @@ struct SolverSpec {
   /// `acceleration: anderson` (initial-stress and initial-stress-stiffness only): Anderson
   /// mixing of the fixed-matrix iterations, depth 5 (src/solve/anderson.hpp).
   bool anderson = false;
-  Linear linear = Linear::direct;  ///< petsc is rejected in this version
+  /// direct and iterative are the serial back ends; petsc (and every run on more than one MPI
+  /// rank) the PETSc one.
+  Linear linear = Linear::direct;
+  /// PETSc options of the case ("-ksp_type cg -pc_type hypre"), added before those of the
+  /// command line (which win).
+  std::string petsc_options;
 };
 
 struct OutputSpec {

@@ -12,6 +12,8 @@ namespace hencky {
 class Log {
  public:
   bool quiet = false;
+  /// Nothing goes to the terminal, warnings included (the ranks other than 0 of a parallel run).
+  bool silent = false;
 
   /// Progress and results for the terminal and the log.
   template <class... A>
@@ -41,7 +43,7 @@ class Log {
 
  private:
   void emit(const std::string& text, bool is_warning) {
-    if (!quiet || is_warning) std::fprintf(stderr, "%s\n", text.c_str());
+    if (!silent && (!quiet || is_warning)) std::fprintf(stderr, "%s\n", text.c_str());
     lines_.push_back(text);
     flush();
   }

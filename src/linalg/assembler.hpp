@@ -22,10 +22,17 @@ struct CellBuffers {
 class Assembler {
  public:
   Assembler(const CellSet& cells, int n_nodes, const DofMap& dofs)
-      : cells_(&cells), dofs_(&dofs), pattern_(build_pattern(cells, n_nodes, dofs)),
-        colors_(color_cells(cells, n_nodes)) {}
+      : cells_(&cells), dofs_(&dofs), n_nodes_(n_nodes), colors_(color_cells(cells, n_nodes)) {}
 
-  const SymmetricPattern& pattern() const { return pattern_; }
+  /// The upper-triangle pattern of the serial back ends, built on first use (the PETSc back
+  /// end never asks for it). Call it outside parallel regions.
+  const SymmetricPattern& pattern() const {
+    if (!pattern_built_) {
+      pattern_ = build_pattern(*cells_, n_nodes_, *dofs_);
+      pattern_built_ = true;
+    }
+    return pattern_;
+  }
   int n_colors() const { return static_cast<int>(colors_.size()); }
 
   /// kernel(cell, CellBuffers&) fills ke and fe (both zeroed before the call). The matrix goes
@@ -33,28 +40,47 @@ class Assembler {
   template <class Kernel>
   void matrix_and_vector(Kernel&& kernel, std::span<double> values, std::span<double> f_full) const {
     std::fill(values.begin(), values.end(), 0.0);
+    const SymmetricPattern& pattern = this->pattern();
     for_each_cell([&](int c, CellBuffers& b, int nd) {
       std::fill(b.ke, b.ke + nd * nd, 0.0);
       std::fill(b.fe, b.fe + nd, 0.0);
       kernel(c, b);
-      scatter_matrix(c, b.ke, nd, values);
+      scatter_matrix(pattern, c, b.ke, nd, values);
       scatter_vector(c, b.fe, f_full);
     });
   }
 
-  /// kernel(cell, CellBuffers&) fills fe (zeroed before the call), added into `f_full`.
+  /// kernel(cell, CellBuffers&) fills fe (zeroed before the call), added into `f_full`. Only
+  /// the cells with only[c] != 0 when `only` is given (a rank's own cells).
   template <class Kernel>
-  void vector(Kernel&& kernel, std::span<double> f_full) const {
-    for_each_cell([&](int c, CellBuffers& b, int nd) {
-      std::fill(b.fe, b.fe + nd, 0.0);
-      kernel(c, b);
-      scatter_vector(c, b.fe, f_full);
-    });
+  void vector(Kernel&& kernel, std::span<double> f_full,
+              const std::vector<char>* only = nullptr) const {
+    for_each_cell(
+        [&](int c, CellBuffers& b, int nd) {
+          std::fill(b.fe, b.fe + nd, 0.0);
+          kernel(c, b);
+          scatter_vector(c, b.fe, f_full);
+        },
+        only);
+  }
+
+  /// kernel(cell, CellBuffers&) fills ke (zeroed before the call); sink(cell, ke) takes it.
+  /// Cells of one colour run in parallel: the sink serializes what it must. Only the cells
+  /// with only[c] != 0 when `only` is given.
+  template <class Kernel, class Sink>
+  void matrices(Kernel&& kernel, Sink&& sink, const std::vector<char>* only = nullptr) const {
+    for_each_cell(
+        [&](int c, CellBuffers& b, int nd) {
+          std::fill(b.ke, b.ke + nd * nd, 0.0);
+          kernel(c, b);
+          sink(c, static_cast<const double*>(b.ke));
+        },
+        only);
   }
 
  private:
   template <class F>
-  void for_each_cell(F&& f) const {
+  void for_each_cell(F&& f, const std::vector<char>* only = nullptr) const {
     // Small meshes run on one thread: a barrier per colour costs more than their cells.
 #pragma omp parallel if (cells_->size() > 4000)
     {
@@ -63,13 +89,15 @@ class Assembler {
 #pragma omp for schedule(dynamic, 32)
         for (std::size_t k = 0; k < color.size(); ++k) {
           const int c = color[k];
+          if (only && !(*only)[c]) continue;
           f(c, buffers, 3 * static_cast<int>(cells_->nodes(c).size()));
         }
         // the implicit barrier of `omp for` separates colours
       }
     }
   }
-  void scatter_matrix(int c, const double* ke, int nd, std::span<double> values) const {
+  void scatter_matrix(const SymmetricPattern& pattern, int c, const double* ke, int nd,
+                      std::span<double> values) const {
     const auto nodes = cells_->nodes(c);
     int eq[max_cell_dofs];
     for (std::size_t a = 0; a < nodes.size(); ++a)
@@ -80,7 +108,7 @@ class Assembler {
       for (int i = 0; i < nd; ++i) {
         const int gi = eq[i];
         if (gi < 0 || gi > gj) continue;
-        values[pattern_.find(gi, gj)] += ke[i * nd + j];
+        values[pattern.find(gi, gj)] += ke[i * nd + j];
       }
     }
   }
@@ -92,7 +120,9 @@ class Assembler {
 
   const CellSet* cells_;
   const DofMap* dofs_;
-  SymmetricPattern pattern_;
+  int n_nodes_;
+  mutable SymmetricPattern pattern_;
+  mutable bool pattern_built_ = false;
   std::vector<std::vector<int>> colors_;
 };
 

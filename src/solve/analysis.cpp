@@ -9,6 +9,8 @@
 
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
+#include "linalg/petsc_solver.hpp"
+#include "parallel/mpi.hpp"
 #include "solve/anderson.hpp"
 #include "solve/contact_step.hpp"
 #include "solve/schemes.hpp"
@@ -31,7 +33,11 @@ class StepSolver {
  public:
   StepSolver(const Model& m, LinearSolver& solver, Log& log, Timings& timings)
       : m_(m), solver_(solver), log_(log), timings_(timings), contact_(m) {
-    values_.resize(m.assembler().pattern().nnz());
+    // The PETSc back end assembles its own distributed matrix; on more than one rank each rank
+    // works on its own cells (only_) and the nodal vectors are summed over the ranks.
+    petsc_ = dynamic_cast<PetscSolver*>(&solver);
+    if (petsc_ && petsc_->partition().parts > 1) only_ = &petsc_->partition().owned_cell;
+    if (!petsc_) values_.resize(m.assembler().pattern().nnz());
     plastic_ = m.has_plasticity();
     options_.kind = scheme_from_name(m.spec().solver.scheme);
     options_.strain_form = m.spec().solver.curve_form == "strain";
@@ -173,6 +179,13 @@ class StepSolver {
       // travel) is no force scale of the problem: that of the internal forces of the iterate is.
       const double scale = contact_.active() ? std::max(f_norm, norm(trial.f_int)) : f_norm;
       residual = scale > 0 ? std::sqrt(r) / scale : 0.0;
+      if (only_) {
+        // The sums over ranks may differ in their last bits from rank to rank: root's figures
+        // decide for all.
+        double d[3] = {residual, delta_sigma_, delta_eps_};
+        par::broadcast(std::span<double>(d));
+        residual = d[0], delta_sigma_ = d[1], delta_eps_ = d[2];
+      }
       if (plastic_) {
         log_.detail(
             "  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
@@ -242,6 +255,34 @@ class StepSolver {
 
   int plastic_points() const { return plastic_points_; }
 
+  /// On more than one rank: root receives the integration-point values of the other ranks'
+  /// cells into `s` (for the output and the curve warnings); each rank keeps its own.
+  void gather_points(State& s) const {
+    if (!only_) return;
+    constexpr int width = 16;  // σ, ε^p, ε̃^p, ε̃^{e+p}, its maximum, flowing
+    const int n_cells = m_.mesh().cells.size();
+    std::vector<double> buf(static_cast<std::size_t>(width) * m_.n_points(), 0.0);
+    for (int e = 0; e < n_cells; ++e) {
+      if (!mine(e)) continue;
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+        double* b = &buf[static_cast<std::size_t>(width) * p];
+        for (int k = 0; k < 6; ++k) b[k] = s.stress[p][k], b[6 + k] = s.plastic_strain[p][k];
+        b[12] = s.eps_p_eq[p], b[13] = s.eps_ep[p], b[14] = s.eps_ep_max[p], b[15] = s.flowing[p];
+      }
+    }
+    par::sum_to_root(std::span<double>(buf));
+    if (!par::root()) return;
+    for (int e = 0; e < n_cells; ++e) {
+      if (mine(e)) continue;
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+        const double* b = &buf[static_cast<std::size_t>(width) * p];
+        for (int k = 0; k < 6; ++k) s.stress[p][k] = b[k], s.plastic_strain[p][k] = b[6 + k];
+        s.eps_p_eq[p] = b[12], s.eps_ep[p] = b[13], s.eps_ep_max[p] = b[14];
+        s.flowing[p] = static_cast<std::uint8_t>(b[15]);
+      }
+    }
+  }
+
   /// newton's predictor (solver.predictor: extrapolate). The step starts from the converged
   /// state (`trial`, already evaluated: `r2` is its squared residual norm). When the last step
   /// moved the free nodes by Δu_n and the new step's out-of-balance force does positive work on
@@ -260,6 +301,7 @@ class StepSolver {
     if (!extrapolate_ || last_dt_ <= 0 || dt <= 0) return r2;
     double work = 0;
     for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
+    if (only_) par::broadcast(std::span<double>(&work, 1));  // one decision for all ranks
     if (!(work > 0)) {
       log_.detail(
           "  predictor: the load reverses (no work on the last increment); no extrapolation");
@@ -363,7 +405,7 @@ class StepSolver {
 #pragma omp parallel for schedule(static) if (n_cells > 4000)
     for (int e = 0; e < n_cells; ++e) {
       const auto& mat = m_.material_of(e);
-      if (!mat.plastic()) continue;
+      if (!mat.plastic() || !mine(e)) continue;
       for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
         point_step_[p] = begin_point_step(options_, trial.constants[p], *mat.hardening,
                                           trial.temperature[p], mat.elastic_unloading, c.stress[p],
@@ -434,9 +476,13 @@ class StepSolver {
             kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
           }
         },
-        trial.f_int);
-    tangent_changed_ = changed.load();
-    if (const int e = undefined_cell.load(); e >= 0) {
+        trial.f_int, only_);
+    // Every rank takes the same decisions: the flags and the failing cells over all ranks.
+    const int undefined = par::max(undefined_cell.load());
+    negative_secant_cell_ = par::max(negative_secant_cell.load());
+    tangent_changed_ = par::any(changed.load());
+    if (only_) par::sum_in_place(std::span<double>(trial.f_int));
+    if (const int e = undefined; e >= 0) {
       timings_.material += seconds_since(t0);
       failed_in_linear_solver_ = false;
       throw SolveError(fmt::format(
@@ -446,7 +492,6 @@ class StepSolver {
           "variable-stiffness with curve_form: stress, or newton",
           scheme_name(options_.kind), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
     }
-    negative_secant_cell_ = negative_secant_cell.load();
     if (plastic_) measures(trial);
     timings_.material += seconds_since(t0);
   }
@@ -458,7 +503,7 @@ class StepSolver {
     int n_plastic = 0;
     const auto& mesh = m_.mesh();
     for (int e = 0; e < mesh.cells.size(); ++e) {
-      if (!m_.material_of(e).plastic()) continue;
+      if (!m_.material_of(e).plastic() || !mine(e)) continue;
       for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
         const double w = point_volume_[p], q = von_mises(trial.stress[p]);
         ns += w * defect_sigma_[p] * defect_sigma_[p];
@@ -468,6 +513,10 @@ class StepSolver {
         n_plastic += trial.flowing[p];
       }
     }
+    double sums[5] = {ns, ds, ne, de, static_cast<double>(n_plastic)};
+    par::sum_in_place(std::span<double>(sums));
+    ns = sums[0], ds = sums[1], ne = sums[2], de = sums[3];
+    n_plastic = static_cast<int>(sums[4]);
     delta_sigma_ = ds > 0 ? std::sqrt(ns / ds) : 0.0;
     delta_eps_ = de > 0 ? std::sqrt(ne / de) : 0.0;
     plastic_points_ = n_plastic;
@@ -478,6 +527,12 @@ class StepSolver {
   /// factorizes it.
   void assemble_and_factorize(const State& trial, bool new_elements) {
     auto t0 = Clock::now();
+    if (petsc_) {
+      assemble_petsc(trial);
+      timings_.assembly += seconds_since(t0);
+      factorize();
+      return;
+    }
     if (contact_.active() && !new_elements && !element_values_.empty()) {
       values_ = element_values_;
       contact_.add_matrix(trial, values_);
@@ -485,90 +540,9 @@ class StepSolver {
       factorize();
       return;
     }
-    const auto& mesh = m_.mesh();
     scratch_.assign(m_.dofs().n_dofs(), 0.0);
     m_.assembler().matrix_and_vector(
-        [&](int e, CellBuffers& b) {
-          const auto nodes = mesh.cells.nodes(e);
-          const int n = static_cast<int>(nodes.size());
-          const int nd = 3 * n;
-          const bool plastic = m_.material_of(e).plastic();
-          const Tangent elastic;
-          Vec3 x[max_cell_nodes], bv[max_cell_nodes];
-          for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
-          CellKinematics& kin = kinematics();
-          kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
-          for (int q = 0; q < kin.points; ++q) {
-            const double w = kin.dv[q];
-            const double* dNdx = kin.grad(q);
-            const int p = m_.point_offset(e) + q;
-            const ElasticConstants& k = trial.constants[p];
-            // C = D + dev_scale·2G·I_dev + coef·v vᵀ (material/plastic_point.hpp): an isotropic
-            // part and, for plastic points, a rank-one part.
-            const Tangent& t = plastic ? tangent_[p] : elastic;
-            const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
-            if (t.coef != 0) {
-              // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
-              const Voigt& v = t.v;
-              for (int a = 0; a < n; ++a) {
-                const double* g = dNdx + 3 * a;
-                bv[a] = Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5],
-                             g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
-                             g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
-              }
-              const double cw = t.coef * w;
-              for (int a = 0; a < n; ++a)
-                for (int bb = a; bb < n; ++bb)
-                  for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j)
-                      b.ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
-            }
-            if (kin.bbar) {
-              // B̄_a = B_a + (1/3) m d_aᵀ: K_ab gains (1/3)(B_aᵀCm) d_bᵀ + (1/3) d_a (B_bᵀCm)ᵀ
-              // + (1/9)(mᵀCm) d_a d_bᵀ, with Cm = C·(1, 1, 1, 0, 0, 0).
-              Voigt m_vec;
-              m_vec << 1, 1, 1, 0, 0, 0;
-              const Voigt cm = t.times(k, m_vec) * w;
-              const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
-              const double* dq = kin.corr(q);
-              for (int a = 0; a < n; ++a) {
-                const double* g = dNdx + 3 * a;
-                bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
-                             g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
-                             g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
-                        3;
-              }
-              for (int a = 0; a < n; ++a)
-                for (int bb = a; bb < n; ++bb)
-                  for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j)
-                      b.ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
-                                                             dq[3 * a + i] * bv[bb][j] +
-                                                             mcm * dq[3 * a + i] * dq[3 * bb + j];
-            }
-            // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
-            for (int a = 0; a < n; ++a) {
-              const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
-              for (int bb = a; bb < n; ++bb) {
-                const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
-                const double dot = mu * ga.dot(gb);
-                for (int i = 0; i < 3; ++i)
-                  for (int j = 0; j < 3; ++j) {
-                    const double v =
-                        lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
-                    b.ke[(3 * a + i) * nd + 3 * bb + j] += v;
-                  }
-              }
-            }
-          }
-          // Lower blocks by symmetry.
-          for (int a = 0; a < n; ++a)
-            for (int bb = a + 1; bb < n; ++bb)
-              for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j)
-                  b.ke[(3 * bb + j) * nd + 3 * a + i] = b.ke[(3 * a + i) * nd + 3 * bb + j];
-        },
-        values_, scratch_);
+        [&](int e, CellBuffers& b) { element_matrix(trial, e, b); }, values_, scratch_);
     if (contact_.active()) {
       element_values_ = values_;
       contact_.add_matrix(trial, values_);
@@ -577,16 +551,140 @@ class StepSolver {
     factorize();
   }
 
-  /// Factorizes values_ (analysing the pattern the first time).
+  /// The matrix of cell e for the iterate's tangents into b.ke (zeroed by the caller): B̄ᵀCB̄
+  /// over the cell's points, C the point's tangent (elastic D, or the scheme's matrix).
+  void element_matrix(const State& trial, int e, CellBuffers& b) const {
+    const auto& mesh = m_.mesh();
+
+    const auto nodes = mesh.cells.nodes(e);
+    const int n = static_cast<int>(nodes.size());
+    const int nd = 3 * n;
+    const bool plastic = m_.material_of(e).plastic();
+    const Tangent elastic;
+    Vec3 x[max_cell_nodes], bv[max_cell_nodes];
+    for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
+    CellKinematics& kin = kinematics();
+    kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+    for (int q = 0; q < kin.points; ++q) {
+      const double w = kin.dv[q];
+      const double* dNdx = kin.grad(q);
+      const int p = m_.point_offset(e) + q;
+      const ElasticConstants& k = trial.constants[p];
+      // C = D + dev_scale·2G·I_dev + coef·v vᵀ (material/plastic_point.hpp): an isotropic
+      // part and, for plastic points, a rank-one part.
+      const Tangent& t = plastic ? tangent_[p] : elastic;
+      const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
+      if (t.coef != 0) {
+        // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
+        const Voigt& v = t.v;
+        for (int a = 0; a < n; ++a) {
+          const double* g = dNdx + 3 * a;
+          bv[a] = Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5],
+                       g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
+                       g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
+        }
+        const double cw = t.coef * w;
+        for (int a = 0; a < n; ++a)
+          for (int bb = a; bb < n; ++bb)
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j)
+                b.ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
+      }
+      if (kin.bbar) {
+        // B̄_a = B_a + (1/3) m d_aᵀ: K_ab gains (1/3)(B_aᵀCm) d_bᵀ + (1/3) d_a (B_bᵀCm)ᵀ
+        // + (1/9)(mᵀCm) d_a d_bᵀ, with Cm = C·(1, 1, 1, 0, 0, 0).
+        Voigt m_vec;
+        m_vec << 1, 1, 1, 0, 0, 0;
+        const Voigt cm = t.times(k, m_vec) * w;
+        const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
+        const double* dq = kin.corr(q);
+        for (int a = 0; a < n; ++a) {
+          const double* g = dNdx + 3 * a;
+          bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
+                       g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
+                       g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
+                  3;
+        }
+        for (int a = 0; a < n; ++a)
+          for (int bb = a; bb < n; ++bb)
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j)
+                b.ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
+                                                       dq[3 * a + i] * bv[bb][j] +
+                                                       mcm * dq[3 * a + i] * dq[3 * bb + j];
+      }
+      // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
+      for (int a = 0; a < n; ++a) {
+        const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+        for (int bb = a; bb < n; ++bb) {
+          const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
+          const double dot = mu * ga.dot(gb);
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const double v =
+                  lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
+              b.ke[(3 * a + i) * nd + 3 * bb + j] += v;
+            }
+        }
+      }
+    }
+    // Lower blocks by symmetry.
+    for (int a = 0; a < n; ++a)
+      for (int bb = a + 1; bb < n; ++bb)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            b.ke[(3 * bb + j) * nd + 3 * a + i] = b.ke[(3 * a + i) * nd + 3 * bb + j];
+  }
+
+  /// The PETSc back end's matrix: every rank adds its own cells and, for the contact nodes
+  /// whose rows it owns, their G blocks. The whole matrix is assembled again when only the
+  /// contact changed (the serial back ends reuse the elements' part).
+  void assemble_petsc(const State& trial) {
+    const auto& mesh = m_.mesh();
+    petsc_->begin_matrix();
+    std::string failure;
+    m_.assembler().matrices(
+        [&](int e, CellBuffers& b) { element_matrix(trial, e, b); },
+        [&](int e, const double* ke) {
+          // MatSetValues is not thread-safe; the cells' matrices are computed in parallel.
+#pragma omp critical(hencky_petsc_add)
+          try {
+            if (failure.empty()) petsc_->add_cell(mesh.cells.nodes(e), ke);
+          } catch (const std::exception& x) {
+            failure = x.what();
+          }
+        },
+        only_);
+    if (!failure.empty()) throw std::runtime_error(failure);
+    if (contact_.active()) {
+      const int me = petsc_->partition().rank;
+      const auto& owner = petsc_->partition().node_owner;
+      contact_.add_matrix(trial, [&](int a, int b, const Mat3& block) {
+        if (owner[a] != me) return;
+        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
+        petsc_->add_block(a, b, rows.data());
+      });
+    }
+    petsc_->end_matrix();
+  }
+
+  /// This rank works on cell e (every cell without the PETSc back end on several ranks).
+  bool mine(int e) const { return !only_ || (*only_)[e]; }
+
+  /// Factorizes values_ (analysing the pattern the first time), or sets the PETSc solver up
+  /// for its assembled matrix.
   void factorize() {
     const auto t0 = Clock::now();
-    if (!analyzed_) {
+    if (!analyzed_ && !petsc_) {
       solver_.analyze(m_.assembler().pattern());
       analyzed_ = true;
     }
     failed_in_linear_solver_ = true;
     try {
-      solver_.factorize(values_);
+      if (petsc_)
+        petsc_->set_up();
+      else
+        solver_.factorize(values_);
     } catch (const SolveError& e) {
       if (negative_secant_cell_ < 0) throw;
       // variable-stiffness with a negative secant: say why the matrix is indefinite.
@@ -613,6 +711,8 @@ class StepSolver {
 
   const Model& m_;
   LinearSolver& solver_;
+  PetscSolver* petsc_ = nullptr;             ///< solver_ when it is the PETSc back end
+  const std::vector<char>* only_ = nullptr;  ///< this rank's cells, on more than one rank
   Log& log_;
   Timings& timings_;
   bool matrix_changes_with_temperature_ = false;
@@ -715,6 +815,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     report.last = targets.empty();
     factorizations_before = stepper.factorizations();
     result.factorizations = stepper.factorizations();
+    stepper.gather_points(committed);
     if (model.has_plasticity()) {
       log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
                report.step, report.time, report.iterations, report.residual, report.plastic_points);

@@ -77,29 +77,37 @@ void ContactStep::forces(State& trial) const {
     }
 }
 
-void ContactStep::add_matrix(const State& trial, std::span<double> values) {
+void ContactStep::add_matrix(const State& trial,
+                             const std::function<void(int, int, const Mat3&)>& add) {
   const auto& bodies = m_->contacts();
-  const auto& eq = m_->dofs().eq;
-  const auto& pattern = m_->assembler().pattern();
   for (std::size_t b = 0; b < bodies.size(); ++b)
     for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
       const ContactNode& s = trial.contact[b][i];
       if (!s.contact) continue;
       const Mat3 G = contact_matrix(s);
       const ContactPoint& p = bodies[b].points[i];
-      // T̃ᵀ G T̃ over the (up to three) mesh nodes of the point; one triangle of the symmetric
-      // matrix: each global pair once, from the ordering in which its row is the smaller.
+      // T̃ᵀ G T̃ over the (up to three) mesh nodes of the point.
       for (int j = 0; j < p.terms; ++j)
         for (int k = 0; k < p.terms; ++k)
-          for (int dj = 0; dj < 3; ++dj)
-            for (int dk = 0; dk < 3; ++dk) {
-              const int gj = eq[3 * p.term_node[j] + dj], gk = eq[3 * p.term_node[k] + dk];
-              if (gj < 0 || gk < 0 || gj > gk) continue;
-              values[pattern.find(gj, gk)] += p.term_coef[j] * p.term_coef[k] * G(dj, dk);
-            }
+          add(p.term_node[j], p.term_node[k], (p.term_coef[j] * p.term_coef[k]) * G);
     }
   assembled_ = trial.contact;
   assembled_any_ = true;
+}
+
+void ContactStep::add_matrix(const State& trial, std::span<double> values) {
+  const auto& eq = m_->dofs().eq;
+  const auto& pattern = m_->assembler().pattern();
+  // One triangle of the symmetric matrix: each global pair once, from the ordering in which its
+  // row is the smaller.
+  add_matrix(trial, [&](int a, int b, const Mat3& block) {
+    for (int dj = 0; dj < 3; ++dj)
+      for (int dk = 0; dk < 3; ++dk) {
+        const int gj = eq[3 * a + dj], gk = eq[3 * b + dk];
+        if (gj < 0 || gk < 0 || gj > gk) continue;
+        values[pattern.find(gj, gk)] += block(dj, dk);
+      }
+  });
 }
 
 bool ContactStep::matrix_stale(const State& trial) const {

@@ -4,6 +4,7 @@
 // the force and state update after each solve (3.4)/(3.5) and step 4, the κ strategy, and the
 // checks that end a step: no node changed its state, the gaps of the nodes in contact are
 // within the allowed penetration, and the contact set does not oscillate.
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ class ContactStep {
   /// Adds G of every node in contact into the upper-triangle matrix values and remembers
   /// what it added (matrix_stale compares against it).
   void add_matrix(const State& trial, std::span<double> values);
+  /// The same through add(a, b, block): the 3x3 block coupling mesh nodes a (rows) and b
+  /// (columns), for every ordered pair of the point's nodes (the PETSc back end).
+  void add_matrix(const State& trial, const std::function<void(int, int, const Mat3&)>& add);
   /// The matrix last assembled no longer holds the G of the current states: a node entered
   /// or left contact, its κ changed, or its normal turned by more than 1e-3 rad.
   bool matrix_stale(const State& trial) const;

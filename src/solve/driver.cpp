@@ -7,6 +7,9 @@
 #include <map>
 
 #include "io/gmsh_reader.hpp"
+#include "linalg/petsc_solver.hpp"
+#include "parallel/mpi.hpp"
+#include "parallel/partition.hpp"
 
 namespace hencky {
 
@@ -67,12 +70,35 @@ std::vector<std::string> describe_contact(const Model& model) {
   return out;
 }
 
-std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log) {
+std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
+                                              const std::string& petsc_options) {
+  const SolverSpec& s = model.spec().solver;
+  const int ranks = par::size();
+  if (s.linear != SolverSpec::Linear::petsc && ranks == 1)
+    return make_linear_solver(s.linear == SolverSpec::Linear::iterative
+                                  ? LinearSolverKind::iterative
+                                  : LinearSolverKind::direct);
+  const PetscPreset preset =
+      s.linear == SolverSpec::Linear::direct ? PetscPreset::mumps : PetscPreset::gamg;
+  if (s.linear != SolverSpec::Linear::petsc)
+    log.info("{} MPI ranks: the PETSc back end with {} replaces solver.linear: {}", ranks,
+             preset == PetscPreset::mumps ? "MUMPS (direct)" : "CG + GAMG (iterative)",
+             s.linear == SolverSpec::Linear::direct ? "direct" : "iterative");
+  Partition part = partition_mesh(model.mesh(), ranks, par::rank());
+  const int min_cells = par::min(part.owned_cells);
+  if (ranks > 1)
+    log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
+             min_cells, par::max(part.owned_cells), par::min(part.owned_nodes),
+             par::max(part.owned_nodes));
+  return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
+                                       s.petsc_options + " " + petsc_options);
+}
+
+std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,
+                                             const std::string& petsc_options) {
   auto r = std::make_unique<InProcessRun>();
   r->loaded = load_case(case_file, log);
-  auto solver = make_linear_solver(r->loaded.spec->solver.linear == SolverSpec::Linear::iterative
-                                       ? LinearSolverKind::iterative
-                                       : LinearSolverKind::direct);
+  auto solver = make_run_solver(*r->loaded.model, log, petsc_options);
   Timings timings;
   r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states);
   r->solver_stats = solver->stats();

@@ -27,6 +27,12 @@ std::string describe_mesh(const Mesh& mesh);
 /// One line per contact: its surface, nodes, those touching at t = 0 and the range of κ.
 std::vector<std::string> describe_contact(const Model& model);
 
+/// The linear solver of a run: the case's back end (solver.linear), or on more than one MPI
+/// rank the PETSc one (MUMPS for `direct`, CG + GAMG for `iterative`), with a log line saying
+/// so. `petsc_options` (the command line's) are added after the case's and win. Collective.
+std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
+                                              const std::string& petsc_options = "");
+
 /// Keeps the reports and the last committed state (for tests and tools).
 class KeepLastState final : public StepObserver {
  public:
@@ -45,6 +51,7 @@ struct InProcessRun {
   KeepLastState states;
   LinearSolverStats solver_stats;  ///< analyses, factorizations, solves of the run
 };
-std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log);
+std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,
+                                             const std::string& petsc_options = "");
 
 }  // namespace hencky

@@ -538,10 +538,17 @@ TEST_F(CaseTest, ContactErrorsNameTheKey) {
                {"'solver.acceleration'", "cannot be combined with contact"});
 }
 
-TEST_F(CaseTest, LaterVersionFeatures) {
-  expect_error(base + "solver: {linear: petsc}\n",
-               {"case.yaml:10:18", "'solver.linear'",
-                "the petsc back end is not available in this version (use direct or iterative)"});
+TEST_F(CaseTest, PetscBackEnd) {
+  const Case c = read(base + "solver: {linear: petsc, petsc_options: \"-pc_type hypre -ksp_rtol "
+                             "1e-9 -pc_gamg_threshold -0.01\"}\n");
+  EXPECT_EQ(c.solver.linear, SolverSpec::Linear::petsc);
+  EXPECT_EQ(c.solver.petsc_options, "-pc_type hypre -ksp_rtol 1e-9 -pc_gamg_threshold -0.01");
+  EXPECT_TRUE(read(base).solver.petsc_options.empty());
+  expect_error(base + "solver: {linear: petsc, petsc_options: \"pc_type hypre\"}\n",
+               {"'solver.petsc_options'", "'pc_type' is neither an option"});
+  expect_error(base + "solver: {linear: petsc, petsc_options: [-ksp_monitor]}\n",
+               {"'solver.petsc_options'"});
+  expect_error(base + "solver: {linear: pets}\n", {"'solver.linear'", "petsc"});
 }
 
 // A material with a plasticity entry whose content starts on line 7, column 7.

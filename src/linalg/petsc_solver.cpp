@@ -1,0 +1,269 @@
+#include "linalg/petsc_solver.hpp"
+
+#include <fmt/format.h>
+#include <petscksp.h>
+
+#include <cctype>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "parallel/mpi.hpp"
+
+namespace hencky {
+namespace {
+
+/// PETSc call that failed: an internal error with PETSc's own message.
+void check(PetscErrorCode code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw std::runtime_error(fmt::format("PETSc: {} failed: {}", what, text ? text : "error"));
+}
+
+/// The option names of a PETSc option string ("-ksp_type cg -ksp_rtol 1e-8" → -ksp_type,
+/// -ksp_rtol): the tokens that start with '-' and are no negative numbers.
+std::vector<std::string> option_names(const std::string& options) {
+  std::vector<std::string> names;
+  std::istringstream in(options);
+  std::string token;
+  while (in >> token)
+    if (token.size() > 1 && token[0] == '-' && !std::isdigit(static_cast<unsigned char>(token[1])) &&
+        token[1] != '.')
+      names.push_back(token);
+  return names;
+}
+
+}  // namespace
+
+struct PetscSolver::Impl {
+  const Mesh* mesh = nullptr;
+  const DofMap* dofs = nullptr;
+  std::vector<PetscInt> first_row;  ///< 3 × new index of each node: its first global row
+  std::vector<int> owned;           ///< this rank's nodes, in the order of their rows
+  PetscInt row_begin = 0;           ///< this rank's first row
+  Mat A = nullptr;
+  Vec b = nullptr, x = nullptr, x_all = nullptr;
+  VecScatter to_all = nullptr;
+  KSP ksp = nullptr;
+  bool assembled_once = false;
+
+  std::vector<std::string> option_names;  ///< the options this solver added
+
+  ~Impl() {
+    if (!par::started()) return;  // PETSc already finalized at exit: nothing left to free
+    // The options were this run's: the next solver of the process (a test program runs many)
+    // starts from PETSc's own defaults again.
+    for (const auto& name : option_names) PetscOptionsClearValue(nullptr, name.c_str());
+    if (to_all) VecScatterDestroy(&to_all);
+    if (x_all) VecDestroy(&x_all);
+    if (b) VecDestroy(&b);
+    if (x) VecDestroy(&x);
+    if (A) MatDestroy(&A);
+    if (ksp) KSPDestroy(&ksp);
+  }
+
+  PetscInt row(int node, int d) const {
+    return (*dofs).eq[3 * node + d] < 0 ? -1 : first_row[node] + d;
+  }
+};
+
+PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition,
+                         PetscPreset preset, const std::string& options, double tolerance)
+    : impl_(std::make_unique<Impl>()), partition_(std::move(partition)) {
+  par::ensure_petsc();
+  Impl& s = *impl_;
+  par::add_petsc_options(options);
+  s.option_names = option_names(options);
+  {
+    // For GAMG, whether preset or chosen by an option. Chebyshev smoothing needs an upper bound of the smoothed operator's spectrum; GAMG's own
+    // estimate (from its prolongator smoothing) fell short on a contact problem (CG stopped on
+    // DIVERGED_INDEFINITE_PC once the contact had released), a CG estimate per level does not
+    // (PETSc's manual recommends CG for the estimate of SPD operators). Options given win.
+    for (const char* name : {"-pc_gamg_use_sa_esteig", "-mg_levels_esteig_ksp_type"}) {
+      PetscBool given = PETSC_FALSE;
+      check(PetscOptionsHasName(nullptr, nullptr, name, &given), "PetscOptionsHasName");
+      if (given) continue;
+      const bool sa = std::string(name) == "-pc_gamg_use_sa_esteig";
+      check(PetscOptionsSetValue(nullptr, name, sa ? "0" : "cg"), "PetscOptionsSetValue");
+      s.option_names.push_back(name);
+    }
+  }
+  s.mesh = &mesh;
+  s.dofs = &dofs;
+  const int n_nodes = mesh.n_nodes(), parts = partition_.parts, me = partition_.rank;
+  // Rows by rank, then by the node's own order within the rank.
+  std::vector<PetscInt> count(parts + 1, 0);
+  for (int n = 0; n < n_nodes; ++n) ++count[partition_.node_owner[n] + 1];
+  for (int r = 0; r < parts; ++r) count[r + 1] += count[r];
+  s.first_row.resize(n_nodes);
+  for (int n = 0; n < n_nodes; ++n) {
+    const int r = partition_.node_owner[n];
+    s.first_row[n] = 3 * count[r]++;
+    if (r == me) s.owned.push_back(n);
+  }
+  const PetscInt n_local = 3 * static_cast<PetscInt>(s.owned.size());
+  s.row_begin = s.owned.empty() ? 0 : s.first_row[s.owned.front()];
+
+  // Preallocation per block row: the nodes coupled to each owned node through its cells.
+  std::vector<int> ptr, idx;
+  node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
+  std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
+  std::vector<int> seen(n_nodes, -1);
+  for (std::size_t l = 0; l < s.owned.size(); ++l) {
+    const int n = s.owned[l];
+    PetscInt d = 0, o = 0;
+    for (int k = ptr[n]; k < ptr[n + 1]; ++k)
+      for (int m : mesh.cells.nodes(idx[k])) {
+        if (seen[m] == static_cast<int>(l)) continue;
+        seen[m] = static_cast<int>(l);
+        (partition_.node_owner[m] == me ? d : o) += 1;
+      }
+    d_nnz[l] = std::max<PetscInt>(d, 1);
+    o_nnz[l] = o;
+  }
+  check(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
+  check(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+  check(MatSetBlockSize(s.A, 3), "MatSetBlockSize");
+  check(MatSetType(s.A, MATAIJ), "MatSetType");
+  check(MatXAIJSetPreallocation(s.A, 3, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
+        "matrix preallocation");
+  check(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  check(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+  check(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
+  check(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
+  check(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
+
+  // Near null space: the six rigid-body modes of the owned nodes' coordinates.
+  Vec coords = nullptr;
+  check(VecDuplicate(s.x, &coords), "VecDuplicate");
+  check(VecSetBlockSize(coords, 3), "VecSetBlockSize");
+  PetscScalar* c = nullptr;
+  check(VecGetArray(coords, &c), "VecGetArray");
+  for (std::size_t l = 0; l < s.owned.size(); ++l)
+    for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh.x[s.owned[l]][d];
+  check(VecRestoreArray(coords, &c), "VecRestoreArray");
+  MatNullSpace rigid = nullptr;
+  check(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
+  check(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
+  MatNullSpaceDestroy(&rigid);
+  VecDestroy(&coords);
+
+  check(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");
+  PC pc = nullptr;
+  check(KSPGetPC(s.ksp, &pc), "KSPGetPC");
+  if (preset == PetscPreset::gamg) {
+    check(KSPSetType(s.ksp, KSPCG), "KSPSetType");
+    check(PCSetType(pc, PCGAMG), "PCSetType");
+  } else {
+    check(KSPSetType(s.ksp, KSPPREONLY), "KSPSetType");
+    check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+    check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  }
+  check(KSPSetTolerances(s.ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
+        "KSPSetTolerances");
+  check(KSPSetFromOptions(s.ksp), "KSPSetFromOptions (a PETSc option of the case or the command line)");
+  KSPType kt = nullptr;
+  PCType pt = nullptr;
+  KSPGetType(s.ksp, &kt);
+  PCGetType(pc, &pt);
+  std::string method = fmt::format("PETSc {} + {}", kt, pt);
+  MatSolverType st = nullptr;
+  if (PCFactorGetMatSolverType(pc, &st) == 0 && st) method += fmt::format(" ({})", st);
+  stats_.description = fmt::format("{}, {} rank{}", method, parts, parts > 1 ? "s" : "");
+}
+
+PetscSolver::~PetscSolver() = default;
+
+void PetscSolver::begin_matrix() {
+  Impl& s = *impl_;
+  if (s.assembled_once) check(MatZeroEntries(s.A), "MatZeroEntries");
+  for (std::size_t l = 0; l < s.owned.size(); ++l)
+    for (int d = 0; d < 3; ++d)
+      if (s.dofs->eq[3 * s.owned[l] + d] < 0) {
+        const PetscInt r = s.first_row[s.owned[l]] + d;
+        check(MatSetValue(s.A, r, r, 1.0, ADD_VALUES), "MatSetValue");
+      }
+}
+
+void PetscSolver::add_cell(std::span<const int> nodes, const double* ke) {
+  const Impl& s = *impl_;
+  PetscInt rows[3 * max_cell_nodes];
+  const PetscInt nd = 3 * static_cast<PetscInt>(nodes.size());
+  for (std::size_t a = 0; a < nodes.size(); ++a)
+    for (int d = 0; d < 3; ++d) rows[3 * a + d] = s.row(nodes[a], d);
+  check(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
+}
+
+void PetscSolver::add_block(int a, int b, const double* block) {
+  const Impl& s = *impl_;
+  PetscInt r[3], c[3];
+  for (int d = 0; d < 3; ++d) r[d] = s.row(a, d), c[d] = s.row(b, d);
+  check(MatSetValues(s.A, 3, r, 3, c, block, ADD_VALUES), "MatSetValues");
+}
+
+void PetscSolver::end_matrix() {
+  Impl& s = *impl_;
+  check(MatAssemblyBegin(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check(MatAssemblyEnd(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  s.assembled_once = true;
+}
+
+void PetscSolver::set_up() {
+  Impl& s = *impl_;
+  check(KSPSetOperators(s.ksp, s.A, s.A), "KSPSetOperators");
+  const PetscErrorCode e = KSPSetUp(s.ksp);
+  if (e != 0) {
+    const char* text = nullptr;
+    PetscErrorMessage(e, &text, nullptr);
+    throw SolveError(fmt::format("{}: set-up failed: {}", stats_.description, text ? text : ""));
+  }
+  ++stats_.n_factorizations;
+}
+
+void PetscSolver::analyze(const SymmetricPattern&) {
+  throw std::logic_error("PetscSolver assembles its own matrix (begin_matrix .. end_matrix)");
+}
+void PetscSolver::factorize(std::span<const double>) {
+  throw std::logic_error("PetscSolver assembles its own matrix (begin_matrix .. end_matrix)");
+}
+
+void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
+  Impl& s = *impl_;
+  const auto& eq = s.dofs->eq;
+  PetscScalar* b = nullptr;
+  check(VecGetArray(s.b, &b), "VecGetArray");
+  for (std::size_t l = 0; l < s.owned.size(); ++l)
+    for (int d = 0; d < 3; ++d) {
+      const int k = eq[3 * s.owned[l] + d];
+      b[3 * l + d] = k >= 0 ? rhs[k] : 0.0;
+    }
+  check(VecRestoreArray(s.b, &b), "VecRestoreArray");
+  check(KSPSolve(s.ksp, s.b, s.x), "KSPSolve");
+  KSPConvergedReason reason;
+  PetscInt its = 0;
+  KSPGetConvergedReason(s.ksp, &reason);
+  KSPGetIterationNumber(s.ksp, &its);
+  ++stats_.n_solves;
+  stats_.iterations += its;
+  if (reason < 0) {
+    PC pc = nullptr;
+    PCFailedReason pcr = PC_NOERROR;
+    KSPGetPC(s.ksp, &pc);
+    PCGetFailedReasonRank(pc, &pcr);
+    std::string why = KSPConvergedReasons[reason];
+    if (reason == KSP_DIVERGED_PC_FAILED) why += fmt::format(" ({})", PCFailedReasons[pcr]);
+    throw SolveError(fmt::format("{} did not solve the linear system: {} after {} iterations",
+                                 stats_.description, why, its));
+  }
+  check(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+  check(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+  const PetscScalar* all = nullptr;
+  check(VecGetArrayRead(s.x_all, &all), "VecGetArrayRead");
+  for (int n = 0; n < s.mesh->n_nodes(); ++n)
+    for (int d = 0; d < 3; ++d)
+      if (const int k = eq[3 * n + d]; k >= 0) x[k] = all[s.first_row[n] + d];
+  check(VecRestoreArrayRead(s.x_all, &all), "VecRestoreArrayRead");
+}
+
+}  // namespace hencky

@@ -1,0 +1,63 @@
+#pragma once
+// The PETSc back end (solver.linear: petsc, and every run under mpirun with more than one rank).
+// The global matrix is a PETSc MPIAIJ matrix with block size 3 over all nodal dofs, rows split
+// by node owner (parallel/partition.hpp). Each rank adds the element matrices of its own cells;
+// PETSc moves the entries of shared nodes to their owners. A prescribed dof keeps its row and
+// column as the identity, so that every node keeps its three rows and GAMG sees 3x3 blocks; the
+// rigid-body modes of the node coordinates are its near null space (PETSc's
+// MatNullSpaceCreateRigidBody, as in PETSc's elasticity tutorial ex56).
+//
+// Default: CG with GAMG ("iterative"), or MUMPS Cholesky ("direct"); any PETSc option given in
+// the case (solver.petsc_options) or on the command line overrides it (KSPSetFromOptions).
+#include <memory>
+#include <span>
+#include <string>
+
+#include "linalg/linear_solver.hpp"
+#include "mesh/mesh.hpp"
+#include "parallel/partition.hpp"
+
+namespace hencky {
+
+enum class PetscPreset { gamg, mumps };
+
+class PetscSolver final : public LinearSolver {
+ public:
+  /// Collective. `options` (PETSc options, later ones win) are in force while this solver
+  /// lives. `tolerance` is the default relative residual of the Krylov solve (-ksp_rtol
+  /// overrides it).
+  PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition, PetscPreset preset,
+              const std::string& options = "", double tolerance = 1e-10);
+  ~PetscSolver() override;
+
+  const Partition& partition() const { return partition_; }
+
+  // The matrix, assembled in place (collective: begin_matrix and end_matrix).
+  /// Zeroes the matrix and puts 1 on the diagonal of this rank's prescribed dofs.
+  void begin_matrix();
+  /// Adds a cell's matrix (row-major, 3 dofs per node in the order of `nodes`); rows and
+  /// columns of prescribed dofs are skipped. Not thread-safe: one caller at a time.
+  void add_cell(std::span<const int> nodes, const double* ke);
+  /// Adds a 3x3 block (row-major) coupling the dofs of nodes a (rows) and b (columns).
+  void add_block(int a, int b, const double* block);
+  /// Finishes the assembly (moves the entries of shared nodes to their owners).
+  void end_matrix();
+  /// Sets the preconditioner (or factorization) up for the assembled matrix. Throws SolveError
+  /// when PETSc reports a failure (a zero pivot, an indefinite matrix for Cholesky).
+  void set_up();
+
+  // LinearSolver: the pattern interface of the serial back ends is not used here.
+  void analyze(const SymmetricPattern&) override;
+  void factorize(std::span<const double>) override;
+  /// rhs and x are the free dofs, full length on every rank (DofMap numbering). Collective.
+  void solve(std::span<const double> rhs, std::span<double> x) override;
+  const LinearSolverStats& stats() const override { return stats_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Partition partition_;
+  LinearSolverStats stats_;
+};
+
+}  // namespace hencky

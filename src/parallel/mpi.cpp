@@ -1,0 +1,155 @@
+#include "parallel/mpi.hpp"
+
+#include <petscsys.h>
+
+#include <cstdlib>
+#include <stdexcept>
+
+namespace hencky::par {
+namespace {
+
+bool petsc_started = false;
+bool finished = false;
+
+bool running() { return petsc_started && !finished; }
+
+void check(PetscErrorCode code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  throw std::runtime_error(std::string(what) + ": " + (text ? text : "PETSc error"));
+}
+
+void start_petsc() {
+  if (petsc_started) return;
+  // hencky reads its own command line (PETSc options from it are added by the caller) and keeps
+  // the default signal handling, so that a crash is a crash (and the sanitizers see it).
+  PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+  check(PetscInitializeNoArguments(), "PETSc initialization");
+  // Errors come back as codes and become exceptions (petsc_solver.cpp) instead of PETSc's
+  // printed traceback.
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  petsc_started = true;
+  std::atexit(finish);
+}
+
+MPI_Comm comm() { return PETSC_COMM_WORLD; }
+
+}  // namespace
+
+bool launched_by_mpirun() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"})
+    if (std::getenv(v)) return true;
+  return false;
+}
+
+void start(int*, char***) { start_petsc(); }
+void ensure_petsc() { start_petsc(); }
+bool started() { return running(); }
+
+void finish() {
+  if (!running()) return;
+  finished = true;
+  PetscFinalize();
+}
+
+int rank() {
+  if (!running()) return 0;
+  int r = 0;
+  MPI_Comm_rank(comm(), &r);
+  return r;
+}
+
+int size() {
+  if (!running()) return 1;
+  int s = 1;
+  MPI_Comm_size(comm(), &s);
+  return s;
+}
+
+void add_petsc_options(const std::string& options) {
+  if (options.empty()) return;
+  ensure_petsc();
+  check(PetscOptionsInsertString(nullptr, options.c_str()), "PETSc options");
+}
+
+void sum_in_place(std::span<double> v) {
+  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm());
+}
+void sum_in_place(std::span<int> v) {
+  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT, MPI_SUM, comm());
+}
+
+namespace {
+template <class T>
+T reduce(T x, MPI_Datatype type, MPI_Op op) {
+  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, &x, 1, type, op, comm());
+  return x;
+}
+}  // namespace
+
+double sum(double x) { return reduce(x, MPI_DOUBLE, MPI_SUM); }
+double max(double x) { return reduce(x, MPI_DOUBLE, MPI_MAX); }
+long long sum(long long x) { return reduce(x, MPI_LONG_LONG, MPI_SUM); }
+long long max(long long x) { return reduce(x, MPI_LONG_LONG, MPI_MAX); }
+int min(int x) { return reduce(x, MPI_INT, MPI_MIN); }
+int max(int x) { return reduce(x, MPI_INT, MPI_MAX); }
+bool any(bool x) { return reduce(x ? 1 : 0, MPI_INT, MPI_MAX) != 0; }
+
+void broadcast(std::span<int> v) {
+  if (size() > 1) MPI_Bcast(v.data(), static_cast<int>(v.size()), MPI_INT, 0, comm());
+}
+void broadcast(std::span<double> v) {
+  if (size() > 1) MPI_Bcast(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, 0, comm());
+}
+
+std::string broadcast(const std::string& s) {
+  if (size() == 1) return s;
+  int n = static_cast<int>(s.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm());
+  std::string out = root() ? s : std::string(static_cast<std::size_t>(n), '\0');
+  MPI_Bcast(out.data(), n, MPI_CHAR, 0, comm());
+  return out;
+}
+
+std::vector<std::string> gather_strings(const std::string& s) {
+  if (size() == 1) return {s};
+  const int p = size();
+  int n = static_cast<int>(s.size());
+  std::vector<int> lengths(p), offsets(p, 0);
+  MPI_Gather(&n, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm());
+  int total = 0;
+  for (int r = 0; r < p; ++r) offsets[r] = total, total += lengths[r];
+  std::string all(root() ? static_cast<std::size_t>(total) : 0, '\0');
+  MPI_Gatherv(s.data(), n, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
+              comm());
+  std::vector<std::string> out;
+  if (root())
+    for (int r = 0; r < p; ++r) out.push_back(all.substr(offsets[r], lengths[r]));
+  return out;
+}
+
+void sum_to_root(std::span<double> v) {
+  if (size() == 1) return;
+  const int n = static_cast<int>(v.size());
+  if (root())
+    MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_DOUBLE, MPI_SUM, 0, comm());
+  else
+    MPI_Reduce(v.data(), nullptr, n, MPI_DOUBLE, MPI_SUM, 0, comm());
+}
+
+void sum_to_root(std::span<unsigned char> v) {
+  if (size() == 1) return;
+  const int n = static_cast<int>(v.size());
+  if (root())
+    MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UNSIGNED_CHAR, MPI_SUM, 0, comm());
+  else
+    MPI_Reduce(v.data(), nullptr, n, MPI_UNSIGNED_CHAR, MPI_SUM, 0, comm());
+}
+
+void abort_all(int code) {
+  if (size() > 1) MPI_Abort(comm(), code);
+  std::exit(code);
+}
+
+}  // namespace hencky::par

@@ -1,0 +1,60 @@
+#pragma once
+// The process group a run belongs to. hencky starts MPI (through PETSc, which initializes it)
+// only when it was launched by mpirun or when the PETSc back end is asked for: a serial run with
+// the direct solver never touches MPI. Every collective below is a no-op on one process, so the
+// step loop calls them unconditionally.
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hencky::par {
+
+/// The environment says this process was started by an MPI launcher (Open MPI, MPICH/Hydra or
+/// PMIx).
+bool launched_by_mpirun();
+
+/// Starts MPI and PETSc now (main(), when launched by mpirun). Idempotent.
+void start(int* argc, char*** argv);
+/// Starts PETSc (and MPI as a singleton) if it is not running yet: the PETSc back end of a
+/// serial run, and the test programs. Idempotent; finished at exit.
+void ensure_petsc();
+/// PETSc and MPI are running.
+bool started();
+/// Finalizes PETSc and MPI if hencky started them (main's last act; also run at exit).
+void finish();
+
+int rank();
+int size();
+inline bool root() { return rank() == 0; }
+
+/// Adds `options` (a PETSc option string, "-ksp_type cg -pc_type gamg") to PETSc's database.
+/// Later calls override earlier ones for the same option. Throws std::runtime_error with PETSc's
+/// message when the string cannot be parsed.
+void add_petsc_options(const std::string& options);
+
+// Collectives over all ranks (no-ops on one rank).
+void sum_in_place(std::span<double> v);
+void sum_in_place(std::span<int> v);
+double sum(double x);
+double max(double x);
+long long sum(long long x);
+long long max(long long x);
+int min(int x);
+int max(int x);
+bool any(bool x);
+/// Root's values to every rank.
+void broadcast(std::span<int> v);
+void broadcast(std::span<double> v);
+/// Root's string to every rank.
+std::string broadcast(const std::string& s);
+/// Every rank's string, on root (in rank order); empty elsewhere.
+std::vector<std::string> gather_strings(const std::string& s);
+/// Sum over ranks into root's `v` (other ranks' `v` unchanged).
+void sum_to_root(std::span<double> v);
+void sum_to_root(std::span<unsigned char> v);
+
+/// Ends every rank of the run at once (MPI_Abort) with exit status `code`; on one process,
+/// std::exit(code).
+[[noreturn]] void abort_all(int code);
+
+}  // namespace hencky::par
