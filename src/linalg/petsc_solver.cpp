@@ -48,7 +48,8 @@ struct PetscSolver::Impl {
   KSP ksp = nullptr;
   bool assembled_once = false;
 
-  std::vector<std::string> option_names;  ///< the options this solver added
+  std::vector<std::string> option_names;  ///< the options this solver added: given, defaults
+  std::size_t given_options = 0;          ///< how many of them were given
 
   ~Impl() {
     if (!par::started()) return;  // PETSc already finalized at exit: nothing left to free
@@ -75,6 +76,7 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   Impl& s = *impl_;
   par::add_petsc_options(options);
   s.option_names = option_names(options);
+  s.given_options = s.option_names.size();
   {
     // For GAMG, whether preset or chosen by an option. Chebyshev smoothing needs an upper bound of the smoothed operator's spectrum; GAMG's own
     // estimate (from its prolongator smoothing) fell short on a contact problem (CG stopped on
@@ -162,7 +164,12 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   }
   check(KSPSetTolerances(s.ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
         "KSPSetTolerances");
-  check(KSPSetFromOptions(s.ksp), "KSPSetFromOptions (a PETSc option of the case or the command line)");
+  if (const PetscErrorCode e = KSPSetFromOptions(s.ksp); e != 0) {
+    const char* text = nullptr;
+    PetscErrorMessage(e, &text, nullptr);
+    throw std::invalid_argument(fmt::format("PETSc refused the solver options \"{}\": {}",
+                                            options, text ? text : "error"));
+  }
   KSPType kt = nullptr;
   PCType pt = nullptr;
   KSPGetType(s.ksp, &kt);
@@ -174,6 +181,16 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
 }
 
 PetscSolver::~PetscSolver() = default;
+
+std::vector<std::string> PetscSolver::unused_options() const {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < impl_->given_options; ++k) {
+    const std::string& name = impl_->option_names[k];
+    PetscBool used = PETSC_FALSE;  // the database keeps names without their '-'
+    if (PetscOptionsUsed(nullptr, name.c_str() + 1, &used) == 0 && !used) out.push_back(name);
+  }
+  return out;
+}
 
 void PetscSolver::begin_matrix() {
   Impl& s = *impl_;

@@ -12,6 +12,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "linalg/linear_solver.hpp"
 #include "mesh/mesh.hpp"
@@ -24,13 +25,16 @@ enum class PetscPreset { gamg, mumps };
 class PetscSolver final : public LinearSolver {
  public:
   /// Collective. `options` (PETSc options, later ones win) are in force while this solver
-  /// lives. `tolerance` is the default relative residual of the Krylov solve (-ksp_rtol
+  /// lives; std::invalid_argument when PETSc refuses them. `tolerance` is the default relative residual of the Krylov solve (-ksp_rtol
   /// overrides it).
   PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition, PetscPreset preset,
               const std::string& options = "", double tolerance = 1e-10);
   ~PetscSolver() override;
 
   const Partition& partition() const { return partition_; }
+  /// The options given to this solver that PETSc has not read (misspelt, or for a solver not
+  /// in use). Meaningful after the first solve: PETSc reads most options at set-up.
+  std::vector<std::string> unused_options() const;
 
   // The matrix, assembled in place (collective: begin_matrix and end_matrix).
   /// Zeroes the matrix and puts 1 on the diagonal of this rank's prescribed dofs.

@@ -70,7 +70,13 @@ int size() {
 void add_petsc_options(const std::string& options) {
   if (options.empty()) return;
   ensure_petsc();
-  check(PetscOptionsInsertString(nullptr, options.c_str()), "PETSc options");
+  const PetscErrorCode code = PetscOptionsInsertString(nullptr, options.c_str());
+  if (code != 0) {
+    const char* text = nullptr;
+    PetscErrorMessage(code, &text, nullptr);
+    throw std::invalid_argument(std::string("PETSc cannot read the options \"") + options +
+                                "\": " + (text ? text : "error"));
+  }
 }
 
 void sum_in_place(std::span<double> v) {

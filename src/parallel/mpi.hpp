@@ -28,8 +28,8 @@ int size();
 inline bool root() { return rank() == 0; }
 
 /// Adds `options` (a PETSc option string, "-ksp_type cg -pc_type gamg") to PETSc's database.
-/// Later calls override earlier ones for the same option. Throws std::runtime_error with PETSc's
-/// message when the string cannot be parsed.
+/// Later calls override earlier ones for the same option. Throws std::invalid_argument with
+/// PETSc's message when the string cannot be parsed.
 void add_petsc_options(const std::string& options);
 
 // Collectives over all ranks (no-ops on one rank).

@@ -38,23 +38,20 @@ std::vector<int> metis_cells(const Mesh& mesh, int parts) {
 
 }  // namespace
 
-Partition partition_mesh(const Mesh& mesh, int parts, int rank) {
+std::vector<int> split_cells(const Mesh& mesh, int parts) {
+  const int n_cells = mesh.cells.size();
+  if (parts > 1 && n_cells >= 2 * parts) return metis_cells(mesh, parts);
+  std::vector<int> owner(n_cells, 0);
+  for (int c = 0; c < n_cells; ++c) owner[c] = c % parts;
+  return owner;
+}
+
+Partition partition_from(const Mesh& mesh, std::vector<int> cell_owner, int parts, int rank) {
   Partition p;
   p.parts = parts;
   p.rank = rank;
+  p.cell_owner = std::move(cell_owner);
   const int n_cells = mesh.cells.size();
-  p.cell_owner.assign(n_cells, 0);
-  if (parts > 1) {
-    // Fewer cells than parts: METIS cannot split; every rank but the first few stays empty.
-    if (rank == 0) {
-      if (n_cells >= 2 * parts) {
-        p.cell_owner = metis_cells(mesh, parts);
-      } else {
-        for (int c = 0; c < n_cells; ++c) p.cell_owner[c] = c % parts;
-      }
-    }
-    par::broadcast(std::span<int>(p.cell_owner));
-  }
   p.node_owner.assign(mesh.n_nodes(), parts);
   for (int c = 0; c < n_cells; ++c)
     for (int n : mesh.cells.nodes(c)) p.node_owner[n] = std::min(p.node_owner[n], p.cell_owner[c]);
@@ -69,6 +66,15 @@ Partition partition_mesh(const Mesh& mesh, int parts, int rank) {
   }
   p.owned_nodes = static_cast<int>(std::count(p.node_owner.begin(), p.node_owner.end(), rank));
   return p;
+}
+
+Partition partition_mesh(const Mesh& mesh, int parts, int rank) {
+  std::vector<int> owner(mesh.cells.size(), 0);
+  if (parts > 1) {
+    if (rank == 0) owner = split_cells(mesh, parts);
+    par::broadcast(std::span<int>(owner));
+  }
+  return partition_from(mesh, std::move(owner), parts, rank);
 }
 
 }  // namespace hencky

@@ -20,9 +20,15 @@ struct Partition {
   bool owns_cell(int c) const { return owned_cell[c] != 0; }
 };
 
-/// The split of `mesh` into `parts` pieces for rank `rank`: METIS k-way on the dual graph of the
-/// corner nodes (three shared corners make a neighbour). One part owns everything. Collective
-/// when parts > 1 (rank 0 partitions, the others receive).
+/// The owner of each cell: METIS k-way on the dual graph of the corner nodes (three shared
+/// corners make a neighbour). One part owns everything; fewer than 2 cells a part are dealt
+/// round-robin. Deterministic (fixed seed).
+std::vector<int> split_cells(const Mesh& mesh, int parts);
+
+/// Rank `rank`'s view of the split `cell_owner` (node owners, own cells, counts).
+Partition partition_from(const Mesh& mesh, std::vector<int> cell_owner, int parts, int rank);
+
+/// split_cells on rank 0, broadcast to all, and each rank's view. Collective when parts > 1.
 Partition partition_mesh(const Mesh& mesh, int parts, int rank);
 
 }  // namespace hencky

@@ -237,6 +237,14 @@ class StepSolver {
       failed_in_linear_solver_ = true;
       solver_.solve(rhs, delta_);
       failed_in_linear_solver_ = false;
+      if (petsc_ && !options_checked_) {
+        // PETSc ignores options it does not know: say so once it has read them (at set-up).
+        options_checked_ = true;
+        for (const auto& name : petsc_->unused_options())
+          log_.warn(fmt::format("PETSc option '{}' was not used (misspelt, or for a solver that "
+                                "is not in use)",
+                                name));
+      }
       timings_.solve += seconds_since(t0);
       if (spec.anderson) {
         // A new matrix is a new fixed-point map, and a step that doubled the residual left the
@@ -712,6 +720,7 @@ class StepSolver {
   const Model& m_;
   LinearSolver& solver_;
   PetscSolver* petsc_ = nullptr;             ///< solver_ when it is the PETSc back end
+  bool options_checked_ = false;             ///< unused PETSc options were reported
   const std::vector<char>* only_ = nullptr;  ///< this rank's cells, on more than one rank
   Log& log_;
   Timings& timings_;

@@ -90,8 +90,15 @@ std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
              min_cells, par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
-  return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
-                                       s.petsc_options + " " + petsc_options);
+  try {
+    return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
+                                         s.petsc_options.empty() || petsc_options.empty()
+                                             ? s.petsc_options + petsc_options
+                                             : s.petsc_options + " " + petsc_options);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
+                     std::string(e.what()) + " (from solver.petsc_options and --petsc)");
+  }
 }
 
 std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,

@@ -36,11 +36,15 @@ ex_copy() {
   rm -rf "$work/examples/$1"/*.out "$work/examples/$1"/*.png
 }
 
-# ex_set FILE PATTERN REPLACEMENT: sed -E 's/PATTERN/REPLACEMENT/' in FILE, and a failed check
-# when the pattern is not there (so that a renamed .geo parameter is not silently ignored).
+# ex_set FILE PATTERN REPLACEMENT: sed -E 's|PATTERN|REPLACEMENT|' in FILE, and a failed check
+# when the pattern is not there (so that a renamed .geo parameter is not silently ignored) or the
+# file is unchanged. '|' delimits: patterns hold '/' ("hc = a / 3").
 ex_set() {
   if grep -Eq -- "$2" "$1"; then
-    sed -E -i "s/$2/$3/" "$1"
+    local before
+    before="$(cat "$1")"
+    sed -E -i "s|$2|$3|" "$1" || bad "$(basename "$1"): sed failed on /$2/"
+    [ "$before" != "$(cat "$1")" ] || [ "$2" = "$3" ] || bad "$(basename "$1"): /$2/ changed nothing"
   else
     bad "$(basename "$1"): no line matches /$2/ to coarsen the example"
   fi

@@ -1,0 +1,111 @@
+# Sourced by run_cli_tests.sh: the PETSc back end, serial and under mpirun (issue 5). The same
+# coarse example is run with the serial direct solver, with PETSc on one process, and on 2 and 3
+# MPI ranks; every step's displacement, stress and (with contact) contact pressure must agree:
+# to 1e-8 relative for the direct solvers (CHOLMOD and MUMPS), to the Newton tolerance for
+# CG + GAMG. Then the outputs are written once, and an error on one rank stops every rank.
+cmp_py="$src/tests/tools/compare_results.py"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# mpi NP ARGS...: hencky on NP ranks, one thread each (the ranks share the 2 cores), at most
+# 2 minutes (a rank that waits for a dead one must not hang the suite).
+mpi() {
+  local np="$1"; shift
+  timeout 120 mpirun -np "$np" --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 "$bin" "$@"
+}
+# mpi_expect NAME STATUS PATTERN NP -- ARGS...: like expect, on NP ranks.
+mpi_expect() {
+  local name="$1" status="$2" pattern="$3" np="$4"; shift 5
+  local out rc
+  out="$(mpi "$np" "$@" 2>&1)"; rc=$?
+  if [ "$rc" -ne "$status" ]; then bad "$name: exit $rc, expected $status" "$out"; return; fi
+  if [ -n "$pattern" ] && ! grep -Eq -- "$pattern" <<<"$out"; then
+    bad "$name: output does not match /$pattern/" "$out"; return
+  fi
+  ok "$name"
+}
+# same NAME DIR_A DIR_B RTOL FIELDS: every step's fields of two result directories agree.
+same() {
+  local out
+  if out="$("$ex_py" "$cmp_py" "$2" "$3" "$4" --fields "$5" 2>&1)"; then ok "$1"
+  else bad "$1" "$out"; fi
+}
+# with_petsc CASE: CASE with solver.linear: petsc added after its 'solver:' line.
+with_petsc() {
+  sed -E 's/^solver:.*/&\n  linear: petsc/' "$1" >"${1%.yaml}-petsc.yaml"
+  grep -q "linear: petsc" "${1%.yaml}-petsc.yaml" || bad "$(basename "$1"): no 'solver:' line"
+}
+# parallel_suite NAME DIR FIELDS: the four runs of the case DIR/case.yaml, compared with the
+# serial direct run.
+parallel_suite() {
+  local name="$1" d="$2" fields="$3"
+  with_petsc "$d/case.yaml"
+  expect "$name: serial, direct" 0 "" -- run "$d/case.yaml" -o "$d/direct" --quiet
+  expect "$name: serial, PETSc CG + GAMG" 0 "" -- run "$d/case-petsc.yaml" -o "$d/petsc1" --quiet
+  mpi_expect "$name: 2 ranks, MUMPS (the default for direct)" 0 "" 2 -- \
+    run "$d/case.yaml" -o "$d/mumps2" --quiet
+  mpi_expect "$name: 3 ranks, MUMPS" 0 "" 3 -- run "$d/case.yaml" -o "$d/mumps3" --quiet
+  mpi_expect "$name: 2 ranks, CG + GAMG" 0 "" 2 -- run "$d/case-petsc.yaml" -o "$d/gamg2" --quiet
+  same "$name: 2 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps2" 1e-8 "$fields"
+  same "$name: 3 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps3" 1e-8 "$fields"
+  same "$name: serial GAMG = serial direct to 1e-7" "$d/direct" "$d/petsc1" 1e-7 "$fields"
+  same "$name: 2 ranks GAMG = serial direct to 1e-7" "$d/direct" "$d/gamg2" 1e-7 "$fields"
+}
+
+# --- Elastic: Lame cylinder (10-node tetrahedra).
+ex_copy lame-cylinder
+d="$work/examples/lame-cylinder"
+ex_set "$d/cylinder.geo" '^h = [0-9.e-]+;' 'h = 0.02;'
+parallel_suite "parallel lame-cylinder" "$d" displacement,stress
+ex_check "parallel lame-cylinder: summary says 2 ranks and MUMPS" "$d/mumps2/summary.json" \
+  's["ranks"] == 2 and "mumps" in s["linear_solver"]["method"] and s["peak_memory_bytes_all_ranks"] >= s["peak_memory_bytes"]'
+ex_check "parallel lame-cylinder: history.csv written once (a header and 2 steps)" \
+  "$d/mumps2/history.csv" 'len(h) == 2'
+ex_check "parallel lame-cylinder: GAMG iterates (more than one iteration a solve)" \
+  "$d/gamg2/summary.json" 's["linear_solver"]["iterations"] > 2 * s["linear_solver"]["solves"]'
+expect "parallel lame-cylinder: --petsc options reach PETSc (hypre)" 0 "" -- \
+  run "$d/case-petsc.yaml" -o "$d/hypre1" --quiet --petsc "-pc_type hypre -ksp_rtol 1e-10"
+ex_check "parallel lame-cylinder: summary names hypre" "$d/hypre1/summary.json" \
+  '"hypre" in s["linear_solver"]["method"]'
+same "parallel lame-cylinder: serial hypre = serial direct to 1e-7" "$d/direct" "$d/hypre1" 1e-7 \
+  displacement,stress
+
+# --- Plastic: strip with a hole, overloaded and unloaded (20-node hexahedra, newton).
+ex_copy plate-hole-overload
+d="$work/examples/plate-hole-overload"
+ex_set "$d/plate.geo" '^n = [0-9]+;' 'n = 6;'
+parallel_suite "parallel plate-hole-overload" "$d" displacement,stress,equivalent_plastic_strain
+ex_check "parallel plate-hole-overload: same steps and iterations on 2 ranks" "$d/mumps2/summary.json" \
+  's["steps"] == 10 and s["iterations"] == json.load(open(sys.argv[1].replace("mumps2", "direct")))["iterations"]'
+
+# --- Contact: rigid ball pressed into a block and released.
+ex_copy ball-indentation
+d="$work/examples/ball-indentation"
+ex_set "$d/block.geo" '^hc = a / [0-9]+;' 'hc = a / 2;'
+parallel_suite "parallel ball-indentation" "$d" displacement,stress,contact_pressure
+ex_check "parallel ball-indentation: the contact force on 3 ranks = serial to 1e-8" \
+  "$d/mumps3/history.csv" \
+  'close(at(1.0)["contact.ball.resultant.z"], [float(r["contact.ball.resultant.z"]) for r in csv.DictReader(open(sys.argv[1].replace("mumps3", "direct"))) if float(r["time"]) == 1.0][0], 1e-8)'
+
+# --- Errors under mpirun.
+d="$work/examples/lame-cylinder"
+sed -E 's/^  steps: 2/  stepz: 2/' "$d/case.yaml" >"$d/broken.yaml"
+mpi_expect "parallel: a bad case is reported once, by rank 0, with exit 1" 1 \
+  "^error: .*broken.yaml.*'solver.stepz'" 2 -- run "$d/broken.yaml" --quiet
+out="$(timeout 120 mpirun --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 \
+  -np 1 "$bin" run "$d/case.yaml" -o "$d/mpmd" --quiet : -np 1 "$bin" run "$d/broken.yaml" --quiet 2>&1)"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -Eq "^rank 1: error: .*'solver.stepz'" <<<"$out" && [ ! -e "$d/mpmd" ]; then
+  ok "parallel: an error on rank 1 alone names the rank, stops both ranks (exit 1), writes nothing"
+else
+  bad "parallel: an error on rank 1 alone (exit $rc)" "$out"
+fi
+cp "$d/case.yaml" "$d/other.yaml"
+ex_set "$d/other.yaml" '^  file: cylinder.geo' '  file: other.geo'
+sed -E 's/^h = [0-9.e-]+;/h = 0.03;/' "$d/cylinder.geo" >"$d/other.geo"
+out="$(timeout 120 mpirun --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 \
+  -np 1 "$bin" run "$d/case.yaml" -o "$d/mixed" --quiet : -np 1 "$bin" run "$d/other.yaml" -o "$d/mixed" --quiet 2>&1)"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -Eq "the ranks read different models" <<<"$out"; then
+  ok "parallel: ranks that read different meshes stop with an error"
+else
+  bad "parallel: ranks that read different meshes (exit $rc)" "$out"
+fi
