@@ -82,9 +82,6 @@ void add_petsc_options(const std::string& options) {
 void sum_in_place(std::span<double> v) {
   if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm());
 }
-void sum_in_place(std::span<int> v) {
-  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT, MPI_SUM, comm());
-}
 
 namespace {
 template <class T>
@@ -94,8 +91,6 @@ T reduce(T x, MPI_Datatype type, MPI_Op op) {
 }
 }  // namespace
 
-double sum(double x) { return reduce(x, MPI_DOUBLE, MPI_SUM); }
-double max(double x) { return reduce(x, MPI_DOUBLE, MPI_MAX); }
 long long sum(long long x) { return reduce(x, MPI_LONG_LONG, MPI_SUM); }
 long long max(long long x) { return reduce(x, MPI_LONG_LONG, MPI_MAX); }
 int min(int x) { return reduce(x, MPI_INT, MPI_MIN); }
@@ -107,15 +102,6 @@ void broadcast(std::span<int> v) {
 }
 void broadcast(std::span<double> v) {
   if (size() > 1) MPI_Bcast(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, 0, comm());
-}
-
-std::string broadcast(const std::string& s) {
-  if (size() == 1) return s;
-  int n = static_cast<int>(s.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, comm());
-  std::string out = root() ? s : std::string(static_cast<std::size_t>(n), '\0');
-  MPI_Bcast(out.data(), n, MPI_CHAR, 0, comm());
-  return out;
 }
 
 std::vector<std::string> gather_strings(const std::string& s) {
@@ -142,15 +128,6 @@ void sum_to_root(std::span<double> v) {
     MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_DOUBLE, MPI_SUM, 0, comm());
   else
     MPI_Reduce(v.data(), nullptr, n, MPI_DOUBLE, MPI_SUM, 0, comm());
-}
-
-void sum_to_root(std::span<unsigned char> v) {
-  if (size() == 1) return;
-  const int n = static_cast<int>(v.size());
-  if (root())
-    MPI_Reduce(MPI_IN_PLACE, v.data(), n, MPI_UNSIGNED_CHAR, MPI_SUM, 0, comm());
-  else
-    MPI_Reduce(v.data(), nullptr, n, MPI_UNSIGNED_CHAR, MPI_SUM, 0, comm());
 }
 
 void abort_all(int code) {

@@ -34,9 +34,6 @@ void add_petsc_options(const std::string& options);
 
 // Collectives over all ranks (no-ops on one rank).
 void sum_in_place(std::span<double> v);
-void sum_in_place(std::span<int> v);
-double sum(double x);
-double max(double x);
 long long sum(long long x);
 long long max(long long x);
 int min(int x);
@@ -45,13 +42,10 @@ bool any(bool x);
 /// Root's values to every rank.
 void broadcast(std::span<int> v);
 void broadcast(std::span<double> v);
-/// Root's string to every rank.
-std::string broadcast(const std::string& s);
 /// Every rank's string, on root (in rank order); empty elsewhere.
 std::vector<std::string> gather_strings(const std::string& s);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).
 void sum_to_root(std::span<double> v);
-void sum_to_root(std::span<unsigned char> v);
 
 /// Ends every rank of the run at once (MPI_Abort) with exit status `code`; on one process,
 /// std::exit(code).

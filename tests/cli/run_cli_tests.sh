@@ -8,18 +8,20 @@ pass=0; fail=0
 ok()   { pass=$((pass+1)); echo "ok   $1"; }
 bad()  { fail=$((fail+1)); echo "FAIL $1"; [ -n "${2:-}" ] && echo "$2" | sed 's/^/     /'; }
 
-# expect NAME STATUS PATTERN -- ARGS... : runs the binary, checks exit status and that the
-# combined output matches the extended regular expression.
-expect() {
+# expect_cmd NAME STATUS PATTERN -- COMMAND... : runs the command, checks exit status and that
+# the combined output matches the extended regular expression.
+expect_cmd() {
   local name="$1" status="$2" pattern="$3"; shift 4
   local out rc
-  out="$("$bin" "$@" 2>&1)"; rc=$?
+  out="$("$@" 2>&1)"; rc=$?
   if [ "$rc" -ne "$status" ]; then bad "$name: exit $rc, expected $status" "$out"; return; fi
   if [ -n "$pattern" ] && ! grep -Eq -- "$pattern" <<<"$out"; then
     bad "$name: output does not match /$pattern/" "$out"; return
   fi
   ok "$name"
 }
+# expect NAME STATUS PATTERN -- ARGS... : expect_cmd on the hencky binary.
+expect() { expect_cmd "$1" "$2" "$3" -- "$bin" "${@:5}"; }
 
 for f in "$src"/tests/cli/cases/*.sh; do
   [ -e "$f" ] || continue

@@ -12,16 +12,7 @@ mpi() {
   timeout 120 mpirun -np "$np" --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 "$bin" "$@"
 }
 # mpi_expect NAME STATUS PATTERN NP -- ARGS...: like expect, on NP ranks.
-mpi_expect() {
-  local name="$1" status="$2" pattern="$3" np="$4"; shift 5
-  local out rc
-  out="$(mpi "$np" "$@" 2>&1)"; rc=$?
-  if [ "$rc" -ne "$status" ]; then bad "$name: exit $rc, expected $status" "$out"; return; fi
-  if [ -n "$pattern" ] && ! grep -Eq -- "$pattern" <<<"$out"; then
-    bad "$name: output does not match /$pattern/" "$out"; return
-  fi
-  ok "$name"
-}
+mpi_expect() { expect_cmd "$1" "$2" "$3" -- mpi "$4" "${@:6}"; }
 # same NAME DIR_A DIR_B RTOL FIELDS: every step's fields of two result directories agree.
 same() {
   local out
