@@ -43,7 +43,8 @@ struct PetscSolver::Impl {
   std::vector<int> owned;           ///< this rank's nodes, in the order of their rows
   PetscInt row_begin = 0;           ///< this rank's first row
   Mat A = nullptr;
-  Vec b = nullptr, x = nullptr, x_all = nullptr;
+  Vec b = nullptr, x = nullptr, r = nullptr, x_all = nullptr;
+  bool preonly = false;  ///< the KSP applies the preconditioner once (a direct solve)
   VecScatter to_all = nullptr;
   KSP ksp = nullptr;
   bool assembled_once = false;
@@ -60,6 +61,7 @@ struct PetscSolver::Impl {
     if (x_all) VecDestroy(&x_all);
     if (b) VecDestroy(&b);
     if (x) VecDestroy(&x);
+    if (r) VecDestroy(&r);
     if (A) MatDestroy(&A);
     if (ksp) KSPDestroy(&ksp);
   }
@@ -134,6 +136,7 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   check(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   check(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   check(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
+  check(VecDuplicate(s.b, &s.r), "VecDuplicate");
   check(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
 
   // Near null space: the six rigid-body modes of the owned nodes' coordinates.
@@ -174,6 +177,7 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   PCType pt = nullptr;
   KSPGetType(s.ksp, &kt);
   PCGetType(pc, &pt);
+  s.preonly = std::string(kt) == KSPPREONLY;
   std::string method = fmt::format("PETSc {} + {}", kt, pt);
   MatSolverType st = nullptr;
   if (PCFactorGetMatSolverType(pc, &st) == 0 && st) method += fmt::format(" ({})", st);
@@ -272,6 +276,19 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
     if (reason == KSP_DIVERGED_PC_FAILED) why += fmt::format(" ({})", PCFailedReasons[pcr]);
     throw SolveError(fmt::format("{} did not solve the linear system: {} after {} iterations",
                                  stats_.description, why, its));
+  }
+  // A direct solve (preonly) reports no residual of its own, and MUMPS factors a singular
+  // matrix (a body not held) without complaint: check the true residual.
+  if (s.preonly) {
+    PetscReal b_norm = 0, r_norm = 0;
+    check(MatMult(s.A, s.x, s.r), "MatMult");
+    check(VecAYPX(s.r, -1.0, s.b), "VecAYPX");
+    check(VecNorm(s.b, NORM_2, &b_norm), "VecNorm");
+    check(VecNorm(s.r, NORM_2, &r_norm), "VecNorm");
+    if (!(r_norm <= 1e-8 * b_norm))
+      throw SolveError(fmt::format("{}: the solution leaves a relative residual of {:.2e}: the "
+                                   "matrix is singular or nearly so",
+                                   stats_.description, b_norm > 0 ? r_norm / b_norm : r_norm));
   }
   check(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   check(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");

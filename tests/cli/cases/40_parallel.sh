@@ -100,3 +100,14 @@ if [ "$rc" -eq 1 ] && grep -Eq "the ranks read different models" <<<"$out"; then
 else
   bad "parallel: ranks that read different meshes (exit $rc)" "$out"
 fi
+# A body that is not held: the direct solve (MUMPS factors the singular matrix without
+# complaint; its residual gives it away) and CG + GAMG both stop with the input error.
+ex_copy cantilever
+d="$work/examples/cantilever"
+ex_set "$d/beam.geo" '^n = [0-9]+;' 'n = 4;'
+ex_set "$d/case.yaml" 'displacement: \{x: 0, y: 0, z: 0\}' 'displacement: {x: 0}'
+mpi_expect "parallel: a body not held, MUMPS on 2 ranks: exit 1 naming the cause" 1 \
+  "'boundary'.*relative residual.*not held against rigid-body motion" 2 -- run "$d/case.yaml" --quiet
+with_petsc "$d/case.yaml"
+mpi_expect "parallel: a body not held, CG + GAMG on 2 ranks: exit 1 naming the cause" 1 \
+  "'boundary'.*not held against rigid-body motion" 2 -- run "$d/case-petsc.yaml" --quiet
