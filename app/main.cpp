@@ -88,7 +88,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
                               l.model->dofs().n_free};
   for (long long v : shape)
-    if (par::max(v) != -par::max(-v)) {
+    if (par::max(v) != par::min(v)) {
       if (par::root())
         std::cerr << "error: the ranks read different models (node, element or unknown "
                      "counts differ): give every rank the same case file and mesh\n";

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "io/suggest.hpp"
+#include "parallel/mpi.hpp"
 #include "material/hardening.hpp"
 
 namespace hencky {
@@ -956,8 +957,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
     std::istringstream in(s.petsc_options);
     std::string token, previous;
     while (in >> token) {
-      const bool option = token.size() > 1 && token[0] == '-' &&
-                          !std::isdigit(static_cast<unsigned char>(token[1])) && token[1] != '.';
+      const bool option = par::is_petsc_option_name(token);
       if (!option && (previous.empty() || previous[0] != '-'))
         r.fail(*x, "expected PETSc options such as \"-ksp_type cg -pc_type hypre\"; '" + token +
                        "' is neither an option (starting with '-') nor the value of one");

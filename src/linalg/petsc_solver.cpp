@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 #include <petscksp.h>
 
-#include <cctype>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "parallel/mpi.hpp"
@@ -13,24 +13,16 @@
 namespace hencky {
 namespace {
 
-/// PETSc call that failed: an internal error with PETSc's own message.
-void check(PetscErrorCode code, const char* what) {
-  if (code == 0) return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  throw std::runtime_error(fmt::format("PETSc: {} failed: {}", what, text ? text : "error"));
-}
+using par::check_petsc;
 
 /// The option names of a PETSc option string ("-ksp_type cg -ksp_rtol 1e-8" → -ksp_type,
-/// -ksp_rtol): the tokens that start with '-' and are no negative numbers.
+/// -ksp_rtol).
 std::vector<std::string> option_names(const std::string& options) {
   std::vector<std::string> names;
   std::istringstream in(options);
-  std::string token;
-  while (in >> token)
-    if (token.size() > 1 && token[0] == '-' && !std::isdigit(static_cast<unsigned char>(token[1])) &&
-        token[1] != '.')
-      names.push_back(token);
+  std::string word;
+  while (in >> word)
+    if (par::is_petsc_option_name(word)) names.push_back(word);
   return names;
 }
 
@@ -41,8 +33,8 @@ struct PetscSolver::Impl {
   const DofMap* dofs = nullptr;
   std::vector<PetscInt> first_row;  ///< 3 × new index of each node: its first global row
   std::vector<int> owned;           ///< this rank's nodes, in the order of their rows
-  PetscInt row_begin = 0;           ///< this rank's first row
   Mat A = nullptr;
+  Mat elements = nullptr;  ///< keep_elements(): the elements' part of A
   Vec b = nullptr, x = nullptr, r = nullptr, x_all = nullptr;
   bool preonly = false;  ///< the KSP applies the preconditioner once (a direct solve)
   VecScatter to_all = nullptr;
@@ -63,6 +55,7 @@ struct PetscSolver::Impl {
     if (x) VecDestroy(&x);
     if (r) VecDestroy(&r);
     if (A) MatDestroy(&A);
+    if (elements) MatDestroy(&elements);
     if (ksp) KSPDestroy(&ksp);
   }
 
@@ -79,19 +72,18 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   par::add_petsc_options(options);
   s.option_names = option_names(options);
   s.given_options = s.option_names.size();
-  {
-    // For GAMG, whether preset or chosen by an option. Chebyshev smoothing needs an upper bound of the smoothed operator's spectrum; GAMG's own
-    // estimate (from its prolongator smoothing) fell short on a contact problem (CG stopped on
-    // DIVERGED_INDEFINITE_PC once the contact had released), a CG estimate per level does not
-    // (PETSc's manual recommends CG for the estimate of SPD operators). Options given win.
-    for (const char* name : {"-pc_gamg_use_sa_esteig", "-mg_levels_esteig_ksp_type"}) {
-      PetscBool given = PETSC_FALSE;
-      check(PetscOptionsHasName(nullptr, nullptr, name, &given), "PetscOptionsHasName");
-      if (given) continue;
-      const bool sa = std::string(name) == "-pc_gamg_use_sa_esteig";
-      check(PetscOptionsSetValue(nullptr, name, sa ? "0" : "cg"), "PetscOptionsSetValue");
-      s.option_names.push_back(name);
-    }
+  // GAMG (preset or chosen by an option): Chebyshev smoothing needs an upper bound of each
+  // level's spectrum. GAMG's own estimate (from its prolongator smoothing) fell short on a
+  // contact problem (CG stopped on DIVERGED_INDEFINITE_PC once the contact had released); a CG
+  // estimate per level does not (PETSc's manual recommends CG for SPD operators). Options
+  // given win.
+  for (const auto& [name, value] : {std::pair{"-pc_gamg_use_sa_esteig", "0"},
+                                    std::pair{"-mg_levels_esteig_ksp_type", "cg"}}) {
+    PetscBool given = PETSC_FALSE;
+    check_petsc(PetscOptionsHasName(nullptr, nullptr, name, &given), "PetscOptionsHasName");
+    if (given) continue;
+    check_petsc(PetscOptionsSetValue(nullptr, name, value), "PetscOptionsSetValue");
+    s.option_names.push_back(name);
   }
   s.mesh = &mesh;
   s.dofs = &dofs;
@@ -107,7 +99,6 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
     if (r == me) s.owned.push_back(n);
   }
   const PetscInt n_local = 3 * static_cast<PetscInt>(s.owned.size());
-  s.row_begin = s.owned.empty() ? 0 : s.first_row[s.owned.front()];
 
   // Preallocation per block row: the nodes coupled to each owned node through its cells.
   std::vector<int> ptr, idx;
@@ -126,53 +117,50 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
     d_nnz[l] = std::max<PetscInt>(d, 1);
     o_nnz[l] = o;
   }
-  check(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
-  check(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
-  check(MatSetBlockSize(s.A, 3), "MatSetBlockSize");
-  check(MatSetType(s.A, MATAIJ), "MatSetType");
-  check(MatXAIJSetPreallocation(s.A, 3, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
+  check_petsc(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
+  check_petsc(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+  check_petsc(MatSetBlockSize(s.A, 3), "MatSetBlockSize");
+  check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
+  check_petsc(MatXAIJSetPreallocation(s.A, 3, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
         "matrix preallocation");
-  check(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
-  check(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
-  check(VecDuplicate(s.b, &s.r), "VecDuplicate");
-  check(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
+  check_petsc(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
+  check_petsc(VecDuplicate(s.b, &s.r), "VecDuplicate");
+  check_petsc(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
 
   // Near null space: the six rigid-body modes of the owned nodes' coordinates.
   Vec coords = nullptr;
-  check(VecDuplicate(s.x, &coords), "VecDuplicate");
-  check(VecSetBlockSize(coords, 3), "VecSetBlockSize");
+  check_petsc(VecDuplicate(s.x, &coords), "VecDuplicate");
+  check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
   PetscScalar* c = nullptr;
-  check(VecGetArray(coords, &c), "VecGetArray");
+  check_petsc(VecGetArray(coords, &c), "VecGetArray");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
     for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh.x[s.owned[l]][d];
-  check(VecRestoreArray(coords, &c), "VecRestoreArray");
+  check_petsc(VecRestoreArray(coords, &c), "VecRestoreArray");
   MatNullSpace rigid = nullptr;
-  check(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
-  check(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
+  check_petsc(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
+  check_petsc(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
   MatNullSpaceDestroy(&rigid);
   VecDestroy(&coords);
 
-  check(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");
+  check_petsc(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");
   PC pc = nullptr;
-  check(KSPGetPC(s.ksp, &pc), "KSPGetPC");
+  check_petsc(KSPGetPC(s.ksp, &pc), "KSPGetPC");
   if (preset == PetscPreset::gamg) {
-    check(KSPSetType(s.ksp, KSPCG), "KSPSetType");
-    check(PCSetType(pc, PCGAMG), "PCSetType");
+    check_petsc(KSPSetType(s.ksp, KSPCG), "KSPSetType");
+    check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
   } else {
-    check(KSPSetType(s.ksp, KSPPREONLY), "KSPSetType");
-    check(PCSetType(pc, PCCHOLESKY), "PCSetType");
-    check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    check_petsc(KSPSetType(s.ksp, KSPPREONLY), "KSPSetType");
+    check_petsc(PCSetType(pc, PCCHOLESKY), "PCSetType");
+    check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   }
-  check(KSPSetTolerances(s.ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
+  check_petsc(KSPSetTolerances(s.ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
         "KSPSetTolerances");
-  if (const PetscErrorCode e = KSPSetFromOptions(s.ksp); e != 0) {
-    const char* text = nullptr;
-    PetscErrorMessage(e, &text, nullptr);
+  if (const PetscErrorCode e = KSPSetFromOptions(s.ksp))
     throw std::invalid_argument(fmt::format("PETSc refused the solver options \"{}\": {}",
-                                            options, text ? text : "error"));
-  }
+                                            options, par::petsc_message(e)));
   KSPType kt = nullptr;
   PCType pt = nullptr;
   KSPGetType(s.ksp, &kt);
@@ -198,12 +186,12 @@ std::vector<std::string> PetscSolver::unused_options() const {
 
 void PetscSolver::begin_matrix() {
   Impl& s = *impl_;
-  if (s.assembled_once) check(MatZeroEntries(s.A), "MatZeroEntries");
+  if (s.assembled_once) check_petsc(MatZeroEntries(s.A), "MatZeroEntries");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
     for (int d = 0; d < 3; ++d)
       if (s.dofs->eq[3 * s.owned[l] + d] < 0) {
         const PetscInt r = s.first_row[s.owned[l]] + d;
-        check(MatSetValue(s.A, r, r, 1.0, ADD_VALUES), "MatSetValue");
+        check_petsc(MatSetValue(s.A, r, r, 1.0, ADD_VALUES), "MatSetValue");
       }
 }
 
@@ -213,32 +201,44 @@ void PetscSolver::add_cell(std::span<const int> nodes, const double* ke) {
   const PetscInt nd = 3 * static_cast<PetscInt>(nodes.size());
   for (std::size_t a = 0; a < nodes.size(); ++a)
     for (int d = 0; d < 3; ++d) rows[3 * a + d] = s.row(nodes[a], d);
-  check(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
+  check_petsc(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
 }
 
 void PetscSolver::add_block(int a, int b, const double* block) {
   const Impl& s = *impl_;
   PetscInt r[3], c[3];
   for (int d = 0; d < 3; ++d) r[d] = s.row(a, d), c[d] = s.row(b, d);
-  check(MatSetValues(s.A, 3, r, 3, c, block, ADD_VALUES), "MatSetValues");
+  check_petsc(MatSetValues(s.A, 3, r, 3, c, block, ADD_VALUES), "MatSetValues");
 }
 
 void PetscSolver::end_matrix() {
   Impl& s = *impl_;
-  check(MatAssemblyBegin(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-  check(MatAssemblyEnd(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+  check_petsc(MatAssemblyBegin(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+  check_petsc(MatAssemblyEnd(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   s.assembled_once = true;
+}
+
+void PetscSolver::keep_elements() {
+  Impl& s = *impl_;
+  if (!s.elements)
+    check_petsc(MatDuplicate(s.A, MAT_COPY_VALUES, &s.elements), "MatDuplicate");
+  else
+    check_petsc(MatCopy(s.A, s.elements, SAME_NONZERO_PATTERN), "MatCopy");
+}
+
+bool PetscSolver::restore_elements() {
+  Impl& s = *impl_;
+  if (!s.elements) return false;
+  check_petsc(MatCopy(s.elements, s.A, SAME_NONZERO_PATTERN), "MatCopy");
+  return true;
 }
 
 void PetscSolver::set_up() {
   Impl& s = *impl_;
-  check(KSPSetOperators(s.ksp, s.A, s.A), "KSPSetOperators");
-  const PetscErrorCode e = KSPSetUp(s.ksp);
-  if (e != 0) {
-    const char* text = nullptr;
-    PetscErrorMessage(e, &text, nullptr);
-    throw SolveError(fmt::format("{}: set-up failed: {}", stats_.description, text ? text : ""));
-  }
+  check_petsc(KSPSetOperators(s.ksp, s.A, s.A), "KSPSetOperators");
+  if (const PetscErrorCode e = KSPSetUp(s.ksp))
+    throw SolveError(fmt::format("{}: set-up failed: {}", stats_.description,
+                                 par::petsc_message(e)));
   ++stats_.n_factorizations;
 }
 
@@ -253,14 +253,14 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
   Impl& s = *impl_;
   const auto& eq = s.dofs->eq;
   PetscScalar* b = nullptr;
-  check(VecGetArray(s.b, &b), "VecGetArray");
+  check_petsc(VecGetArray(s.b, &b), "VecGetArray");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
     for (int d = 0; d < 3; ++d) {
       const int k = eq[3 * s.owned[l] + d];
       b[3 * l + d] = k >= 0 ? rhs[k] : 0.0;
     }
-  check(VecRestoreArray(s.b, &b), "VecRestoreArray");
-  check(KSPSolve(s.ksp, s.b, s.x), "KSPSolve");
+  check_petsc(VecRestoreArray(s.b, &b), "VecRestoreArray");
+  check_petsc(KSPSolve(s.ksp, s.b, s.x), "KSPSolve");
   KSPConvergedReason reason;
   PetscInt its = 0;
   KSPGetConvergedReason(s.ksp, &reason);
@@ -281,23 +281,23 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
   // matrix (a body not held) without complaint: check the true residual.
   if (s.preonly) {
     PetscReal b_norm = 0, r_norm = 0;
-    check(MatMult(s.A, s.x, s.r), "MatMult");
-    check(VecAYPX(s.r, -1.0, s.b), "VecAYPX");
-    check(VecNorm(s.b, NORM_2, &b_norm), "VecNorm");
-    check(VecNorm(s.r, NORM_2, &r_norm), "VecNorm");
+    check_petsc(MatMult(s.A, s.x, s.r), "MatMult");
+    check_petsc(VecAYPX(s.r, -1.0, s.b), "VecAYPX");
+    check_petsc(VecNorm(s.b, NORM_2, &b_norm), "VecNorm");
+    check_petsc(VecNorm(s.r, NORM_2, &r_norm), "VecNorm");
     if (!(r_norm <= 1e-8 * b_norm))
       throw SolveError(fmt::format("{}: the solution leaves a relative residual of {:.2e}: the "
                                    "matrix is singular or nearly so",
                                    stats_.description, b_norm > 0 ? r_norm / b_norm : r_norm));
   }
-  check(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
-  check(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+  check_petsc(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
+  check_petsc(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   const PetscScalar* all = nullptr;
-  check(VecGetArrayRead(s.x_all, &all), "VecGetArrayRead");
+  check_petsc(VecGetArrayRead(s.x_all, &all), "VecGetArrayRead");
   for (int n = 0; n < s.mesh->n_nodes(); ++n)
     for (int d = 0; d < 3; ++d)
       if (const int k = eq[3 * n + d]; k >= 0) x[k] = all[s.first_row[n] + d];
-  check(VecRestoreArrayRead(s.x_all, &all), "VecRestoreArrayRead");
+  check_petsc(VecRestoreArrayRead(s.x_all, &all), "VecRestoreArrayRead");
 }
 
 }  // namespace hencky

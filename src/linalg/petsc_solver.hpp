@@ -46,6 +46,10 @@ class PetscSolver final : public LinearSolver {
   void add_block(int a, int b, const double* block);
   /// Finishes the assembly (moves the entries of shared nodes to their owners).
   void end_matrix();
+  /// Keeps a copy of the assembled matrix (the elements' part, before the contact's blocks).
+  void keep_elements();
+  /// Puts the kept copy back as the matrix to add to; false when nothing was kept.
+  bool restore_elements();
   /// Sets the preconditioner (or factorization) up for the assembled matrix. Throws SolveError
   /// when PETSc reports a failure (a zero pivot, an indefinite matrix for Cholesky).
   void set_up();

@@ -2,6 +2,7 @@
 
 #include <petscsys.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -13,19 +14,12 @@ bool finished = false;
 
 bool running() { return petsc_started && !finished; }
 
-void check(PetscErrorCode code, const char* what) {
-  if (code == 0) return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  throw std::runtime_error(std::string(what) + ": " + (text ? text : "PETSc error"));
-}
-
 void start_petsc() {
   if (petsc_started) return;
   // hencky reads its own command line (PETSc options from it are added by the caller) and keeps
   // the default signal handling, so that a crash is a crash (and the sanitizers see it).
   PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-  check(PetscInitializeNoArguments(), "PETSc initialization");
+  check_petsc(PetscInitializeNoArguments(), "initialization");
   // Errors come back as codes and become exceptions (petsc_solver.cpp) instead of PETSc's
   // printed traceback.
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
@@ -36,6 +30,22 @@ void start_petsc() {
 MPI_Comm comm() { return PETSC_COMM_WORLD; }
 
 }  // namespace
+
+std::string petsc_message(int code) {
+  const char* text = nullptr;
+  PetscErrorMessage(static_cast<PetscErrorCode>(code), &text, nullptr);
+  return text ? text : "";
+}
+
+void check_petsc(int code, const char* what) {
+  if (code != 0)
+    throw std::runtime_error(std::string("PETSc: ") + what + " failed: " + petsc_message(code));
+}
+
+bool is_petsc_option_name(const std::string& word) {
+  return word.size() > 1 && word[0] == '-' &&
+         !std::isdigit(static_cast<unsigned char>(word[1])) && word[1] != '.';
+}
 
 bool launched_by_mpirun() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"})
@@ -70,13 +80,9 @@ int size() {
 void add_petsc_options(const std::string& options) {
   if (options.empty()) return;
   ensure_petsc();
-  const PetscErrorCode code = PetscOptionsInsertString(nullptr, options.c_str());
-  if (code != 0) {
-    const char* text = nullptr;
-    PetscErrorMessage(code, &text, nullptr);
-    throw std::invalid_argument(std::string("PETSc cannot read the options \"") + options +
-                                "\": " + (text ? text : "error"));
-  }
+  if (const PetscErrorCode code = PetscOptionsInsertString(nullptr, options.c_str()))
+    throw std::invalid_argument("PETSc cannot read the options \"" + options +
+                                "\": " + petsc_message(code));
 }
 
 void sum_in_place(std::span<double> v) {
@@ -93,6 +99,7 @@ T reduce(T x, MPI_Datatype type, MPI_Op op) {
 
 long long sum(long long x) { return reduce(x, MPI_LONG_LONG, MPI_SUM); }
 long long max(long long x) { return reduce(x, MPI_LONG_LONG, MPI_MAX); }
+long long min(long long x) { return reduce(x, MPI_LONG_LONG, MPI_MIN); }
 int min(int x) { return reduce(x, MPI_INT, MPI_MIN); }
 int max(int x) { return reduce(x, MPI_INT, MPI_MAX); }
 bool any(bool x) { return reduce(x ? 1 : 0, MPI_INT, MPI_MAX) != 0; }

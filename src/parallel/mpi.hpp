@@ -27,6 +27,14 @@ int rank();
 int size();
 inline bool root() { return rank() == 0; }
 
+/// PETSc's text for an error code ("" when it has none).
+std::string petsc_message(int code);
+/// Throws std::runtime_error "PETSc: <what> failed: <PETSc's text>" when code is not 0.
+void check_petsc(int code, const char* what);
+/// A word of a PETSc option string that names an option ("-ksp_type"), as opposed to a value
+/// ("cg", "1e-8", "-0.01").
+bool is_petsc_option_name(const std::string& word);
+
 /// Adds `options` (a PETSc option string, "-ksp_type cg -pc_type gamg") to PETSc's database.
 /// Later calls override earlier ones for the same option. Throws std::invalid_argument with
 /// PETSc's message when the string cannot be parsed.
@@ -36,6 +44,7 @@ void add_petsc_options(const std::string& options);
 void sum_in_place(std::span<double> v);
 long long sum(long long x);
 long long max(long long x);
+long long min(long long x);
 int min(int x);
 int max(int x);
 bool any(bool x);

@@ -536,7 +536,7 @@ class StepSolver {
   void assemble_and_factorize(const State& trial, bool new_elements) {
     auto t0 = Clock::now();
     if (petsc_) {
-      assemble_petsc(trial);
+      assemble_petsc(trial, new_elements);
       timings_.assembly += seconds_since(t0);
       factorize();
       return;
@@ -647,7 +647,24 @@ class StepSolver {
   /// The PETSc back end's matrix: every rank adds its own cells and, for the contact nodes
   /// whose rows it owns, their G blocks. The whole matrix is assembled again when only the
   /// contact changed (the serial back ends reuse the elements' part).
-  void assemble_petsc(const State& trial) {
+  void assemble_petsc(const State& trial, bool new_elements) {
+    if (new_elements || !contact_.active() || !petsc_->restore_elements()) assemble_cells(trial);
+    if (contact_.active()) {
+      const int me = petsc_->partition().rank;
+      const auto& owner = petsc_->partition().node_owner;
+      contact_.add_matrix(trial, [&](int a, int b, const Mat3& block) {
+        if (owner[a] != me) return;
+        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
+        petsc_->add_block(a, b, rows.data());
+      });
+    }
+    petsc_->end_matrix();
+  }
+
+  /// The elements' part of the PETSc matrix (this rank's cells); with contact it is assembled
+  /// and kept, so that a change of the contact alone starts from it (as element_values_ does
+  /// for the serial back ends).
+  void assemble_cells(const State& trial) {
     const auto& mesh = m_.mesh();
     petsc_->begin_matrix();
     std::string failure;
@@ -665,15 +682,9 @@ class StepSolver {
         only_);
     if (!failure.empty()) throw std::runtime_error(failure);
     if (contact_.active()) {
-      const int me = petsc_->partition().rank;
-      const auto& owner = petsc_->partition().node_owner;
-      contact_.add_matrix(trial, [&](int a, int b, const Mat3& block) {
-        if (owner[a] != me) return;
-        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
-        petsc_->add_block(a, b, rows.data());
-      });
+      petsc_->end_matrix();
+      petsc_->keep_elements();
     }
-    petsc_->end_matrix();
   }
 
   /// This rank works on cell e (every cell without the PETSc back end on several ranks).

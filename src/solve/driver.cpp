@@ -85,10 +85,9 @@ std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
              preset == PetscPreset::mumps ? "MUMPS (direct)" : "CG + GAMG (iterative)",
              s.linear == SolverSpec::Linear::direct ? "direct" : "iterative");
   Partition part = partition_mesh(model.mesh(), ranks, par::rank());
-  const int min_cells = par::min(part.owned_cells);
   if (ranks > 1)
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
-             min_cells, par::max(part.owned_cells), par::min(part.owned_nodes),
+             par::min(part.owned_cells), par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
   try {
     return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
