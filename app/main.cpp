@@ -102,13 +102,14 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
   std::unique_ptr<LinearSolver> solver;
-  if (int code = together([&] { solver = make_run_solver(model, log, petsc_options); }))
+  if (int code = together([&] { solver = make_run_solver(*l.model, log, petsc_options); }))
     return code;
-  // Root writes every output (the other ranks' integration-point values are gathered to it).
+  // Root writes every output (the other ranks' shares of the recovered fields are summed to
+  // it).
   std::unique_ptr<ResultWriter> writer;
   if (par::root()) writer = std::make_unique<ResultWriter>(model, dir, log);
   struct : StepObserver {
-    void step_done(const StepReport&, const State&) override {}
+    void step_done(const StepReport&, const State&, const RecoveredFields&) override {}
   } nothing;  // the other ranks' observer
   Timings timings;
   AnalysisResult result;
@@ -134,7 +135,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   summary["dofs"] = model.dofs().n_free;
   summary["nodes"] = model.mesh().n_nodes();
   summary["elements"] = model.mesh().cells.size();
-  summary["integration_points"] = model.n_points();
+  summary["integration_points"] = model.total_points();
   summary["threads"] = omp_get_max_threads();
   summary["ranks"] = par::size();
   summary["linear_solver"] = {{"method", st.description},

@@ -17,39 +17,13 @@ constexpr std::array<const char*, 6> paraview_names{"xx", "yy", "zz", "xy", "yz"
 constexpr std::array<const char*, 3> axes{"x", "y", "z"};
 }  // namespace
 
-template <class T>
-std::vector<T> recover_nodal(const Model& model, const std::vector<T>& at_points, T zero) {
-  const auto& mesh = model.mesh();
-  std::vector<T> s(mesh.n_nodes(), zero);
-  std::vector<int> count(mesh.n_nodes(), 0);
-  for (int e = 0; e < mesh.cells.size(); ++e) {
-    const auto nodes = mesh.cells.nodes(e);
-    const auto& tab = reference_table(mesh.cells.type[e]);
-    const int p0 = model.point_offset(e);
-    for (std::size_t a = 0; a < nodes.size(); ++a) {
-      T v = zero;
-      for (int q = 0; q < tab.n_points; ++q) v += tab.extrapolation(a, q) * at_points[p0 + q];
-      s[nodes[a]] += v;
-      ++count[nodes[a]];
-    }
-  }
-  for (int n = 0; n < mesh.n_nodes(); ++n)
-    if (count[n] > 0) s[n] /= count[n];
-  return s;
-}
-
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
-  return recover_nodal<Voigt>(model, state.stress, Voigt::Zero());
+  return recover_fields(model, state).nodal_stress;
 }
 
 NodalPlastic recover_nodal_plastic(const Model& model, const State& state) {
-  NodalPlastic r;
-  if (!model.has_plasticity()) return r;
-  r.strain = recover_nodal<Voigt>(model, state.plastic_strain, Voigt::Zero());
-  r.equivalent = recover_nodal<double>(model, state.eps_p_eq, 0.0);
-  // Extrapolation from the points may undershoot next to a plastic zone's edge.
-  for (double& v : r.equivalent) v = std::max(v, 0.0);
-  return r;
+  RecoveredFields f = recover_fields(model, state);
+  return {std::move(f.nodal_plastic_strain), std::move(f.nodal_eps_p_eq)};
 }
 
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
@@ -180,9 +154,10 @@ void ResultWriter::abandon() {
   finished_ = true;
 }
 
-void ResultWriter::step_done(const StepReport& report, const State& state) {
-  const auto nodal_stress = recover_nodal_stress(model_, state);
-  const auto plastic = recover_nodal_plastic(model_, state);
+void ResultWriter::step_done(const StepReport& report, const State& state,
+                             const RecoveredFields& fields) {
+  const auto& nodal_stress = fields.nodal_stress;
+  const NodalPlastic plastic{fields.nodal_plastic_strain, fields.nodal_eps_p_eq};
   const auto reactions = region_reactions(model_, state);
 
   // history.csv and the values the summary reports
@@ -238,26 +213,14 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
   // Fields
   const auto& mesh = model_.mesh();
   const int n = mesh.n_nodes(), n_cells = mesh.cells.size();
-  std::vector<double> stress(6 * n), vm(n), cell_stress(6 * n_cells, 0.0), cell_vm(n_cells, 0.0);
+  std::vector<double> stress(6 * n), vm(n), cell_stress(6 * n_cells);
   for (int i = 0; i < n; ++i) {
     for (int c = 0; c < 6; ++c) stress[6 * i + c] = nodal_stress[i][paraview_order[c]];
     vm[i] = von_mises(nodal_stress[i]);
   }
   std::vector<int> material(n_cells), region(n_cells);
-  std::vector<double> cell_eqp(n_cells, 0.0), cell_zone(n_cells, 0.0);
   for (int e = 0; e < n_cells; ++e) {
-    const int p0 = model_.point_offset(e), p1 = model_.point_offset(e + 1);
-    Voigt avg = Voigt::Zero();
-    double vm_avg = 0;
-    for (int p = p0; p < p1; ++p) {
-      avg += state.stress[p];
-      vm_avg += von_mises(state.stress[p]);
-      cell_eqp[e] += state.eps_p_eq[p] / (p1 - p0);
-      cell_zone[e] += static_cast<double>(state.flowing[p]) / (p1 - p0);
-    }
-    avg /= (p1 - p0);
-    for (int c = 0; c < 6; ++c) cell_stress[6 * e + c] = avg[paraview_order[c]];
-    cell_vm[e] = vm_avg / (p1 - p0);
+    for (int c = 0; c < 6; ++c) cell_stress[6 * e + c] = fields.cell_stress[e][paraview_order[c]];
     material[e] = model_.material_index(e);
     region[e] = mesh.cell_region[e];
   }
@@ -289,9 +252,9 @@ void ResultWriter::step_done(const StepReport& report, const State& state) {
       {"contact_gap", 1, or_zero(contact.gap)},
   };
   const VtuField cell_fields[] = {{"stress", 6, cell_stress},
-                                  {"von_mises", 1, cell_vm},
-                                  {"equivalent_plastic_strain", 1, cell_eqp},
-                                  {"plastic_zone", 1, cell_zone}};
+                                  {"von_mises", 1, fields.cell_von_mises},
+                                  {"equivalent_plastic_strain", 1, fields.cell_eps_p_eq},
+                                  {"plastic_zone", 1, fields.cell_plastic_zone}};
   const VtuIntField int_fields[] = {{"material", material}, {"region", region}};
   const std::string name = fmt::format("step_{:04d}.vtu", report.step);
   write_vtu(work_dir_ / name, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);

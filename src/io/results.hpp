@@ -10,15 +10,17 @@
 
 #include "io/vtu_writer.hpp"
 #include "solve/analysis.hpp"
+#include "solve/recovery.hpp"
 
 namespace hencky {
 
-/// Nodal stress recovered from the integration points: each cell extrapolates its point
-/// values to its nodes (reference_table().extrapolation), nodes average over their cells.
+/// Nodal stress recovered from the integration points (recover_fields, solve/recovery.hpp):
+/// each cell extrapolates its point values to its nodes, nodes average over their cells.
+/// Collective on several ranks, like recover_fields.
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state);
 
 /// Plastic strain (engineering shears) and equivalent plastic strain recovered to the nodes
-/// like the stress; empty without plasticity.
+/// like the stress; empty without plasticity. Collective on several ranks.
 struct NodalPlastic {
   std::vector<Voigt> strain;
   std::vector<double> equivalent;
@@ -56,7 +58,8 @@ class ResultWriter final : public StepObserver {
   ~ResultWriter() override;
   const std::filesystem::path& work_dir() const { return work_dir_; }
 
-  void step_done(const StepReport& report, const State& state) override;
+  void step_done(const StepReport& report, const State& state,
+                 const RecoveredFields& fields) override;
 
   /// Writes summary.json and moves the directory into place (replacing the old one).
   void finish(nlohmann::json summary);

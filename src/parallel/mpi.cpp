@@ -85,9 +85,16 @@ void add_petsc_options(const std::string& options) {
                                 "\": " + petsc_message(code));
 }
 
-void sum_in_place(std::span<double> v) {
-  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm());
+namespace {
+void reduce_in_place(std::span<double> v, MPI_Op op) {
+  if (size() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, op, comm());
 }
+}  // namespace
+
+void sum_in_place(std::span<double> v) { reduce_in_place(v, MPI_SUM); }
+void min_in_place(std::span<double> v) { reduce_in_place(v, MPI_MIN); }
+void max_in_place(std::span<double> v) { reduce_in_place(v, MPI_MAX); }
 
 namespace {
 template <class T>

@@ -42,6 +42,9 @@ void add_petsc_options(const std::string& options);
 
 // Collectives over all ranks (no-ops on one rank).
 void sum_in_place(std::span<double> v);
+/// Entry by entry, the smallest (largest) over the ranks, on every rank.
+void min_in_place(std::span<double> v);
+void max_in_place(std::span<double> v);
 long long sum(long long x);
 long long max(long long x);
 long long min(long long x);

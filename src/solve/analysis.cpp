@@ -13,6 +13,7 @@
 #include "parallel/mpi.hpp"
 #include "solve/anderson.hpp"
 #include "solve/contact_step.hpp"
+#include "solve/recovery.hpp"
 #include "solve/schemes.hpp"
 
 namespace hencky {
@@ -37,6 +38,11 @@ class StepSolver {
     // works on its own cells (only_) and the nodal vectors are summed over the ranks.
     petsc_ = dynamic_cast<PetscSolver*>(&solver);
     if (petsc_ && petsc_->partition().parts > 1) only_ = &petsc_->partition().owned_cell;
+    // A rank stores the points of the cells it holds and works on its own cells: these must
+    // agree (make_run_solver makes the model hold the partition's cells).
+    for (int e = 0; e < m.mesh().cells.size(); ++e)
+      if (mine(e) && !m.holds_points(e))
+        throw std::logic_error("the model does not hold the points of this rank's cells");
     if (!petsc_) values_.resize(m.assembler().pattern().nnz());
     plastic_ = m.has_plasticity();
     options_.kind = scheme_from_name(m.spec().solver.scheme);
@@ -65,6 +71,7 @@ class StepSolver {
       CellKinematics kin;
       Vec3 x[max_cell_nodes];
       for (int e = 0; e < mesh.cells.size(); ++e) {
+        if (!m.holds_points(e)) continue;
         const auto nodes = mesh.cells.nodes(e);
         for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
         kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
@@ -108,7 +115,7 @@ class StepSolver {
   double delta_eps() const { return delta_eps_; }
 
   /// Warnings about the curves after a converged step: temperatures outside their tables,
-  /// plastic strains beyond their last point.
+  /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s) const {
     if (!plastic_) return;
     const auto& mesh = m_.mesh();
@@ -123,6 +130,10 @@ class StepSolver {
         e_max[mi] = std::max(e_max[mi], s.eps_p_eq[p]);
       }
     }
+    // Root warns for the whole model (the log is silent on the other ranks).
+    par::min_in_place(std::span<double>(t_min));
+    par::max_in_place(std::span<double>(t_max));
+    par::max_in_place(std::span<double>(e_max));
     for (int k = 0; k < n_mat; ++k)
       if (const auto& mat = m_.materials()[k]; mat.plastic() && t_min[k] <= t_max[k])
         mat.hardening->warn_outside(mat.spec->name, t_min[k], t_max[k], e_max[k], log_);
@@ -263,34 +274,6 @@ class StepSolver {
 
   int plastic_points() const { return plastic_points_; }
 
-  /// On more than one rank: root receives the integration-point values of the other ranks'
-  /// cells into `s` (for the output and the curve warnings); each rank keeps its own.
-  void gather_points(State& s) const {
-    if (!only_) return;
-    constexpr int width = 16;  // σ, ε^p, ε̃^p, ε̃^{e+p}, its maximum, flowing
-    const int n_cells = m_.mesh().cells.size();
-    std::vector<double> buf(static_cast<std::size_t>(width) * m_.n_points(), 0.0);
-    for (int e = 0; e < n_cells; ++e) {
-      if (!mine(e)) continue;
-      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
-        double* b = &buf[static_cast<std::size_t>(width) * p];
-        for (int k = 0; k < 6; ++k) b[k] = s.stress[p][k], b[6 + k] = s.plastic_strain[p][k];
-        b[12] = s.eps_p_eq[p], b[13] = s.eps_ep[p], b[14] = s.eps_ep_max[p], b[15] = s.flowing[p];
-      }
-    }
-    par::sum_to_root(std::span<double>(buf));
-    if (!par::root()) return;
-    for (int e = 0; e < n_cells; ++e) {
-      if (mine(e)) continue;
-      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
-        const double* b = &buf[static_cast<std::size_t>(width) * p];
-        for (int k = 0; k < 6; ++k) s.stress[p][k] = b[k], s.plastic_strain[p][k] = b[6 + k];
-        s.eps_p_eq[p] = b[12], s.eps_ep[p] = b[13], s.eps_ep_max[p] = b[14];
-        s.flowing[p] = static_cast<std::uint8_t>(b[15]);
-      }
-    }
-  }
-
   /// newton's predictor (solver.predictor: extrapolate). The step starts from the converged
   /// state (`trial`, already evaluated: `r2` is its squared residual norm). When the last step
   /// moved the free nodes by Δu_n and the new step's out-of-balance force does positive work on
@@ -386,6 +369,7 @@ class StepSolver {
     const int n_mat = static_cast<int>(m_.materials().size());
     std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY);
     for (int e = 0; e < mesh.cells.size(); ++e) {
+      if (!m_.holds_points(e)) continue;
       const auto nodes = mesh.cells.nodes(e);
       const auto& tab = reference_table(mesh.cells.type[e]);
       const auto& mat = m_.material_of(e);
@@ -401,6 +385,8 @@ class StepSolver {
         t_max[mi] = std::max(t_max[mi], T);
       }
     }
+    par::min_in_place(std::span<double>(t_min));
+    par::max_in_place(std::span<double>(t_max));
     for (int k = 0; k < n_mat; ++k)
       if (t_min[k] <= t_max[k]) m_.materials()[k].warn_outside(t_min[k], t_max[k], log_);
   }
@@ -835,7 +821,6 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     report.last = targets.empty();
     factorizations_before = stepper.factorizations();
     result.factorizations = stepper.factorizations();
-    stepper.gather_points(committed);
     if (model.has_plasticity()) {
       log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
                report.step, report.time, report.iterations, report.residual, report.plastic_points);
@@ -847,7 +832,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     if (const std::string line = stepper.contact_summary(committed); !line.empty())
       log.info("           {}", line);
     const auto t0 = Clock::now();
-    observer.step_done(report, committed);
+    observer.step_done(report, committed, recover_fields(model, committed));
     timings.output += seconds_since(t0);
   }
   return result;

@@ -12,7 +12,8 @@
 namespace hencky {
 
 /// Everything that describes the body at one converged time (committed) or at the current
-/// iterate (trial). Integration-point data is indexed by Model::point_offset(cell) + q.
+/// iterate (trial). Integration-point data is indexed by Model::point_offset(cell) + q and
+/// holds this rank's cells only (all of them on one rank); nodal data is whole on every rank.
 struct State {
   double time = 0;
   std::vector<double> u;                    ///< displacement, 3 per node
@@ -50,11 +51,16 @@ struct Timings {
   double contact = 0;  ///< contact search and state updates
 };
 
+struct RecoveredFields;  // solve/recovery.hpp
+
 class StepObserver {
  public:
   virtual ~StepObserver() = default;
-  /// Called after every converged step with the committed state.
-  virtual void step_done(const StepReport& report, const State& state) = 0;
+  /// Called on every rank after every converged step with the committed state (this rank's
+  /// integration points) and the point values recovered to nodes and cells (whole on root,
+  /// empty on the other ranks).
+  virtual void step_done(const StepReport& report, const State& state,
+                         const RecoveredFields& fields) = 0;
 };
 
 enum class AnalysisStatus { converged, not_converged };

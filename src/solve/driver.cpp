@@ -70,7 +70,7 @@ std::vector<std::string> describe_contact(const Model& model) {
   return out;
 }
 
-std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
+std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options) {
   const SolverSpec& s = model.spec().solver;
   const int ranks = par::size();
@@ -89,6 +89,7 @@ std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
              par::min(part.owned_cells), par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
+  if (ranks > 1) model.hold_points(part.owned_cell);
   try {
     return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
                                          s.petsc_options.empty() || petsc_options.empty()

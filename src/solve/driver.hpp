@@ -29,14 +29,16 @@ std::vector<std::string> describe_contact(const Model& model);
 
 /// The linear solver of a run: the case's back end (solver.linear), or on more than one MPI
 /// rank the PETSc one (MUMPS for `direct`, CG + GAMG for `iterative`), with a log line saying
-/// so. `petsc_options` (the command line's) are added after the case's and win. Collective.
-std::unique_ptr<LinearSolver> make_run_solver(const Model& model, Log& log,
+/// so. `petsc_options` (the command line's) are added after the case's and win. On several
+/// ranks the model then holds the integration points of this rank's cells only
+/// (Model::hold_points). Collective.
+std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options = "");
 
 /// Keeps the reports and the last committed state (for tests and tools).
 class KeepLastState final : public StepObserver {
  public:
-  void step_done(const StepReport& report, const State& state) override {
+  void step_done(const StepReport& report, const State& state, const RecoveredFields&) override {
     reports.push_back(report);
     last = state;
   }

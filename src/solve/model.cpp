@@ -43,10 +43,16 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   bind_temperature();
   bind_outputs();
   bind_contact();
+  hold_points(std::vector<char>(mesh_.cells.size(), 1));
+  total_points_ = n_points();
+  assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+}
+
+void Model::hold_points(const std::vector<char>& held) {
   point_offset_.assign(mesh_.cells.size() + 1, 0);
   for (int e = 0; e < mesh_.cells.size(); ++e)
-    point_offset_[e + 1] = point_offset_[e] + reference_table(mesh_.cells.type[e]).n_points;
-  assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+    point_offset_[e + 1] =
+        point_offset_[e] + (held[e] ? reference_table(mesh_.cells.type[e]).n_points : 0);
 }
 
 const Region& Model::find_region(const std::string& name, const SourceLocation& where,

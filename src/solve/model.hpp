@@ -56,8 +56,21 @@ class Model {
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return dofs_; }
   const Assembler& assembler() const { return *assembler_; }
+  // Integration points are stored per rank, cell by cell, for the cells this rank holds
+  // (hold_points); one rank holds every cell.
+  /// This rank's points: the length of a State's integration-point arrays.
   int n_points() const { return point_offset_.back(); }
+  /// Where cell's points start in this rank's arrays; a cell held by another rank has none
+  /// (point_offset(cell) == point_offset(cell + 1)).
   int point_offset(int cell) const { return point_offset_[cell]; }
+  bool holds_points(int cell) const { return point_offset_[cell + 1] > point_offset_[cell]; }
+  /// Every cell's points are held here (one rank, or hold_points was not called).
+  bool holds_all_points() const { return n_points() == total_points_; }
+  /// The points of the whole model, over all ranks.
+  int total_points() const { return total_points_; }
+  /// This rank stores the points of the cells with held[cell] != 0 only (the partition's own
+  /// cells on several MPI ranks). Call before any State is made.
+  void hold_points(const std::vector<char>& held);
   const MaterialModel& material_of(int cell) const { return materials_[cell_material_[cell]]; }
   int material_index(int cell) const { return cell_material_[cell]; }
   const std::vector<MaterialModel>& materials() const { return materials_; }
@@ -92,6 +105,7 @@ class Model {
   std::vector<MaterialModel> materials_;
   std::vector<int> cell_material_;
   std::vector<int> point_offset_;
+  int total_points_ = 0;
   DofMap dofs_;
   std::unique_ptr<Assembler> assembler_;
   struct PrescribedDof { int dof; const Expression* value; };

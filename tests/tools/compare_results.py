@@ -3,7 +3,8 @@
 
     compare_results.py DIR_A DIR_B RTOL [--fields displacement,stress,...]
 
-Reads every step's .vtu of both (hencky's own raw appended format), and for each point field
+Reads every step's .vtu of both (hencky's own raw appended format), and for each point and
+cell field (cell fields as "cell.<name>"; --fields NAME selects both)
 computes the largest difference of any step, max ||a - b||, relative to the field's largest
 norm of any step, max ||a|| (Euclidean over all nodes and components; absolute when a is 0
 throughout). Exit status 0 when both ran the same steps and every difference is
@@ -20,20 +21,22 @@ TYPES = {"Float64": np.float64, "Int32": np.int32, "Int64": np.int64, "UInt8": n
 
 
 def read_vtu(path):
-    """Point fields of a hencky .vtu: {name: array (n_points, n_components)}."""
+    """Fields of a hencky .vtu: {name: array (n, n_components)}, point fields by their name,
+    cell fields as "cell.<name>"."""
     raw = Path(path).read_bytes()
     marker = raw.index(b"<AppendedData")
     start = raw.index(b"_", raw.index(b">", marker)) + 1
     header = raw[:marker].decode() + "</VTKFile>"
     root = ET.fromstring(header)
     fields = {}
-    for section in root.iter("PointData"):
-        for a in section.iter("DataArray"):
-            offset = start + int(a.get("offset"))
-            n_bytes = int(np.frombuffer(raw, np.uint64, 1, offset)[0])
-            data = np.frombuffer(raw, TYPES[a.get("type")], n_bytes // np.dtype(TYPES[a.get("type")]).itemsize,
-                                 offset + 8)
-            fields[a.get("Name")] = data.reshape(-1, int(a.get("NumberOfComponents", "1")))
+    for kind, prefix in (("PointData", ""), ("CellData", "cell.")):
+        for section in root.iter(kind):
+            for a in section.iter("DataArray"):
+                offset = start + int(a.get("offset"))
+                n_bytes = int(np.frombuffer(raw, np.uint64, 1, offset)[0])
+                data = np.frombuffer(raw, TYPES[a.get("type")], n_bytes // np.dtype(TYPES[a.get("type")]).itemsize,
+                                     offset + 8)
+                fields[prefix + a.get("Name")] = data.reshape(-1, int(a.get("NumberOfComponents", "1")))
     return fields
 
 
@@ -61,7 +64,7 @@ def main():
             print(f"{pa.name}: different fields {sorted(fa)} vs {sorted(fb)}")
             return 1
         for name in fa:
-            if only and name not in only:
+            if only and name not in only and name.removeprefix("cell.") not in only:
                 continue
             x, y = fa[name].astype(float), fb[name].astype(float)
             scale[name] = max(scale.get(name, 0.0), np.linalg.norm(x))

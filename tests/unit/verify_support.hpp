@@ -460,7 +460,7 @@ Physical Surface("inner") = {{out[5]}};
 struct EveryStep final : StepObserver {
   std::vector<StepReport> reports;
   std::vector<State> states;
-  void step_done(const StepReport& r, const State& s) override {
+  void step_done(const StepReport& r, const State& s, const RecoveredFields&) override {
     reports.push_back(r);
     states.push_back(s);
   }
