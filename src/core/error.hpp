@@ -49,4 +49,11 @@ class SolveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The linear solver cannot be set up with the options it was given (a PETSc option that does
+/// not apply here): the user's input, not the matrix.
+class SolverOptionsError : public SolveError {
+ public:
+  using SolveError::SolveError;
+};
+
 }  // namespace hencky

@@ -236,9 +236,24 @@ bool PetscSolver::restore_elements() {
 void PetscSolver::set_up() {
   Impl& s = *impl_;
   check_petsc(KSPSetOperators(s.ksp, s.A, s.A), "KSPSetOperators");
-  if (const PetscErrorCode e = KSPSetUp(s.ksp))
-    throw SolveError(fmt::format("{}: set-up failed: {}", stats_.description,
-                                 par::petsc_message(e)));
+  if (const PetscErrorCode e = KSPSetUp(s.ksp)) {
+    const std::string what =
+        fmt::format("{}: set-up failed: {}", stats_.description, par::petsc_message(e));
+    // Errors of the options (an algorithm that does not exist or does not apply to this
+    // matrix type), as opposed to numerical ones (a zero pivot, an indefinite matrix).
+    switch (e) {
+      case PETSC_ERR_SUP:
+      case PETSC_ERR_ARG_WRONG:
+      case PETSC_ERR_ARG_OUTOFRANGE:
+      case PETSC_ERR_ARG_INCOMP:
+      case PETSC_ERR_ARG_UNKNOWN_TYPE:
+      case PETSC_ERR_USER_INPUT:
+      case PETSC_ERR_USER:  // an option's value it does not know ("-matptap_via allatonce")
+        throw SolverOptionsError(what);
+      default:
+        throw SolveError(what);
+    }
+  }
   ++stats_.n_factorizations;
 }
 

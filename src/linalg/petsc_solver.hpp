@@ -51,7 +51,9 @@ class PetscSolver final : public LinearSolver {
   /// Puts the kept copy back as the matrix to add to; false when nothing was kept.
   bool restore_elements();
   /// Sets the preconditioner (or factorization) up for the assembled matrix. Throws SolveError
-  /// when PETSc reports a failure (a zero pivot, an indefinite matrix for Cholesky).
+  /// when PETSc reports a failure (a zero pivot, an indefinite matrix for Cholesky), and
+  /// SolverOptionsError when the failure is one of the options (an algorithm that does not
+  /// exist or does not apply).
   void set_up();
 
   // LinearSolver: the pattern interface of the serial back ends is not used here.

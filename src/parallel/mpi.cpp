@@ -32,9 +32,15 @@ MPI_Comm comm() { return PETSC_COMM_WORLD; }
 }  // namespace
 
 std::string petsc_message(int code) {
+  // PETSc's text for the code, and its specific message of the error just raised (which says
+  // what failed: the generic text alone can be empty).
   const char* text = nullptr;
-  PetscErrorMessage(static_cast<PetscErrorCode>(code), &text, nullptr);
-  return text ? text : "";
+  char* specific = nullptr;
+  PetscErrorMessage(static_cast<PetscErrorCode>(code), &text, &specific);
+  std::string m = text ? text : "";
+  if (specific && *specific) m += (m.empty() ? "" : ": ") + std::string(specific);
+  while (!m.empty() && std::isspace(static_cast<unsigned char>(m.back()))) m.pop_back();
+  return m.empty() ? "PETSc error " + std::to_string(code) : m;
 }
 
 void check_petsc(int code, const char* what) {

@@ -690,6 +690,8 @@ class StepSolver {
         petsc_->set_up();
       else
         solver_.factorize(values_);
+    } catch (const SolverOptionsError&) {
+      throw;  // not the matrix's doing
     } catch (const SolveError& e) {
       if (negative_secant_cell_ < 0) throw;
       // variable-stiffness with a negative secant: say why the matrix is indefinite.
@@ -782,6 +784,11 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
                           residual);
         if (const std::string c = stepper.contact_diagnosis(); !c.empty()) why += "; " + c;
       }
+    } catch (const SolverOptionsError& e) {
+      throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
+                       std::string(e.what()) +
+                           ": PETSc cannot set the solver up with the options given "
+                           "(solver.petsc_options, --petsc or PETSC_OPTIONS)");
     } catch (const SolveError& e) {
       if (result.steps == 0 && iterations == 0 && stepper.failed_in_linear_solver())
         throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},

@@ -103,6 +103,16 @@ if [ "$rc" -eq 1 ] && grep -Eq "the ranks read different models" <<<"$out"; then
 else
   bad "parallel: ranks that read different meshes (exit $rc)" "$out"
 fi
+# An option PETSc reads but cannot set the solver up with (an algorithm the serial matrix type
+# does not have) is an input error naming the options, not a body that is not held; on 2 ranks
+# the same option works.
+expect "parallel: an option PETSc cannot set up with is an input error naming solver.petsc_options" 1 \
+  "'solver.petsc_options'.*allatonce" -- run "$d/case-petsc.yaml" -o "$d/badopt" --quiet \
+  --petsc "-matptap_via allatonce"
+[ ! -e "$d/badopt" ] && ok "parallel: ... and nothing is written" || bad "parallel: $d/badopt written"
+mpi_expect "parallel: -matptap_via allatonce works on 2 ranks" 0 "" 2 -- \
+  run "$d/case-petsc.yaml" -o "$d/allatonce2" --quiet --petsc "-matptap_via allatonce"
+same "parallel: ... and gives the serial answer to 1e-7" "$d/direct" "$d/allatonce2" 1e-7 displacement,stress
 # A body that is not held: the direct solve (MUMPS factors the singular matrix without
 # complaint; its residual gives it away) and CG + GAMG both stop with the input error.
 ex_copy cantilever
