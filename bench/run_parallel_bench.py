@@ -2,7 +2,7 @@
 """hencky parallel benchmark: the PETSc back end (CG + GAMG, MUMPS) on 1 and 2 MPI ranks, against
 hencky's serial CHOLMOD and CalculiX, on the Gmsh meshes of the other benchmarks.
 
-Four parts, each selectable with --parts (default: all, run in this order):
+Five parts, each selectable with --parts (default: all, run in this order):
 
   gamg      GAMG iterations against problem size. run_bench.py's Lamé cylinder (quarter ring,
             internal pressure, plane strain; 10-node tetrahedra) at increasing sizes (--gamg-sizes,
@@ -33,6 +33,24 @@ Four parts, each selectable with --parts (default: all, run in this order):
             started, and a run that fails (killed, timed out, not converged) is recorded with the
             reason; then the next smaller size (x --largest-shrink, default 0.7) is tried, at most
             --largest-attempts times.
+  memory    Per-rank peak memory: how much of the model every rank still holds whole. Two problems
+            at --memory-sizes (default ~100k and ~400k unknowns) and --memory-plastic-sizes (default
+            ~50k and ~100k): `elastic`, the gamg part's Lamé
+            cylinder and case, and `plastic`, the ccx part's plastic cylinder (run_plastic_bench.py,
+            newton, 20 increments to 0.9 p_L) with `solver.linear: petsc` instead of direct, so that
+            both rank counts run CG + GAMG; each on 1 rank (no mpirun, one core, as in the gamg part)
+            and on 2 ranks (mpirun -np 2), one run each. Recorded: unknowns, wall time, the largest
+            rank's peak (summary.json peak_memory_bytes), the sum over the ranks, the status. With
+            --baseline-hencky PATH every run is repeated with that binary as well (same case files,
+            its own output folder and log), to compare two builds in one run; each row names its
+            binary. Derived: ratio = largest rank on 2 ranks / 1 rank (0.5: nothing held twice), and
+            "held whole per rank" = (2 × largest rank on 2 ranks − 1 rank) / unknowns, in bytes per
+            unknown: if a process holds R replicated (whole model) and D distributable bytes, 1 rank
+            peaks at R + D and each of 2 ranks at about R + D/2, so the estimate is R per unknown. It
+            also counts what a process of 2 holds beyond a serial one (MPI buffers, halo, ghost
+            copies) and the 2-rank imbalance (the largest rank is taken), and the fixed start-up
+            memory of a process (libraries), which weighs on small models; the notes under the
+            table give the same difference between two sizes per added unknown, where it cancels.
 
 How the programs are run (the exact command of every run is recorded and shown):
   - serial:   hencky run case.yaml -o OUT --quiet --threads T        (T = --threads, or 1; with
@@ -55,6 +73,7 @@ and records the cores they used during the run ("others"); runs disturbed by mor
 
     /usr/bin/python3 bench/run_parallel_bench.py                          # everything, ~30 min here
     /usr/bin/python3 bench/run_parallel_bench.py --parts gamg,scaling --max-dofs 60000 --repeat 1
+    /usr/bin/python3 bench/run_parallel_bench.py --parts memory --baseline-hencky OTHER/build/hencky
     /usr/bin/python3 bench/run_parallel_bench.py --report bench/results/parallel-<stamp>.json
 
 Results: bench/results/parallel-<stamp>.json and .md (rewritten after every part, so a stopped
@@ -86,7 +105,7 @@ import run_plastic_bench as pb  # noqa: E402
 
 ROOT, BENCH = rb.ROOT, rb.BENCH
 fmt_s, mib = rb.fmt_s, rb.mib
-PARTS = ("gamg", "scaling", "ccx", "largest")
+PARTS = ("gamg", "scaling", "ccx", "largest", "memory")
 MUMPS_OPTIONS = "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps"
 
 
@@ -96,8 +115,9 @@ MUMPS_OPTIONS = "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type 
 def configuration(key: str, args) -> dict:
     """What a configuration key means: the case's solver.linear, ranks, threads per rank and the
     --petsc options. Keys: cholmod-<T>t (serial CHOLMOD on T threads), gamg-<N> (CG + GAMG on N
-    ranks), mumps-<N> (MUMPS Cholesky on N ranks)."""
-    m = re.fullmatch(r"(cholmod|gamg|mumps)-(\d+)(t?)", key)
+    ranks), mumps-<N> (MUMPS Cholesky on N ranks), jacobi-<N> (CG + point Jacobi on N ranks: no
+    multigrid set-up, so that the memory part sees hencky's own share)."""
+    m = re.fullmatch(r"(cholmod|gamg|mumps|jacobi)-(\d+)(t?)", key)
     if not m:
         raise SystemExit(f"unknown configuration {key!r}")
     kind, n = m.group(1), int(m.group(2))
@@ -109,6 +129,9 @@ def configuration(key: str, args) -> dict:
     if kind == "gamg":
         return dict(key=key, label=f"PETSc CG + GAMG, {where}", kind=kind, ranks=n, threads=rt,
                     linear="petsc", petsc=None)
+    if kind == "jacobi":
+        return dict(key=key, label=f"PETSc CG + Jacobi, {where}", kind=kind, ranks=n, threads=rt,
+                    linear="petsc", petsc="-pc_type jacobi -ksp_max_it 100000")
     # MUMPS: on one rank through --petsc, under mpirun what `linear: direct` becomes
     return dict(key=key, label=f"PETSc MUMPS Cholesky, {where}", kind=kind, ranks=n, threads=rt,
                 linear="petsc" if n == 1 else "direct", petsc=MUMPS_OPTIONS if n == 1 else None)
@@ -145,12 +168,19 @@ def ccx_shell_line(run_dir: Path, job: str, threads: int) -> str:
             + f" stdbuf -oL -eL ccx -i {job}")
 
 
-def run_config(exe: Path, case: Path, out: Path, key: str, args, timeout: float | None = None) -> dict:
+def run_config(exe: Path, case: Path, out: Path, key: str, args, timeout: float | None = None,
+               tag: str = "", petsc: str = "") -> dict:
     """hencky on `case` in configuration `key`: the case is copied to case.<key>.yaml with its
     solver.linear set for the configuration, and run under /usr/bin/time -v (run_bench.timed).
     Returns run_bench.run_hencky's fields (rc, wall, peak_rss, cpu, others, load_before,
-    timed_out, log, summary) and the configuration, the command and a summary of the run."""
+    timed_out, log, summary) and the configuration, the command and a summary of the run.
+    tag: the log is case.<key>.<tag>.hencky.log instead of case.<key>.hencky.log (a part that
+    runs the same case files as another keeps its own logs). petsc: PETSc options added after the
+    configuration's own."""
     cfg = configuration(key, args)
+    if petsc:
+        cfg["petsc"] = f"{cfg['petsc']} {petsc}" if cfg["petsc"] else petsc
+        cfg["label"] += f" ({petsc})"
     text, n = re.subn(r"\blinear: \w+", f"linear: {cfg['linear']}", case.read_text())
     if n != 1:
         raise SystemExit(f"{case}: expected one `linear:` entry, found {n}")
@@ -159,7 +189,7 @@ def run_config(exe: Path, case: Path, out: Path, key: str, args, timeout: float 
     cmd, env = hencky_command(exe, run_case, out, cfg)
     if out.exists():
         shutil.rmtree(out)
-    log = case.parent / f"{run_case.stem}.hencky.log"
+    log = case.parent / f"{run_case.stem}{'.' + tag if tag else ''}.hencky.log"
     r = rb.timed(rb.with_timeout(cmd, timeout), case.parent, env=dict(args.hencky_environ, **env), log=log)
     r["tail"] = [line for _, line in r.pop("lines")[-6:]]
     r["timed_out"] = bool(timeout) and r["rc"] in rb.TIMEOUT_EXIT
@@ -226,10 +256,10 @@ def quiet(args):
     cb.quiet(args)
 
 
-def linked_run_dir(msh: Path, work: Path) -> Path:
-    """work/parallel-<mesh>/ with a hard link to the mesh (no mesh read, unlike run_bench's
+def linked_run_dir(msh: Path, work: Path, prefix: str = "parallel") -> Path:
+    """work/<prefix>-<mesh>/ with a hard link to the mesh (no mesh read, unlike run_bench's
     size_run_dir, which the ccx part uses for the same folder)."""
-    d = work / f"parallel-{msh.stem}"
+    d = work / f"{prefix}-{msh.stem}"
     d.mkdir(exist_ok=True)
     target = d / msh.name
     if not target.exists():
@@ -496,16 +526,23 @@ def ccx_elastic(problem, target, exe, work, args) -> dict:
                         ccx_row, measure)
 
 
-def ccx_plastic(target, exe, work, args) -> dict:
-    """run_plastic_bench.py's cylinder (perfect plasticity, newton, its default controls): u(b)
-    against its 1D reference and Hill."""
+def plastic_args(args, linear: str = "direct") -> SimpleNamespace:
+    """run_plastic_bench.py's options for its cylinder (perfect plasticity, newton, its default
+    controls), with hencky's solver.linear `linear`: the ccx and memory parts' plastic case."""
     pargs = SimpleNamespace(
-        steps=20, tolerance=1e-6, max_iterations=1000, cutback=4, linear="direct", relaxation=0.01,
+        steps=20, tolerance=1e-6, max_iterations=1000, cutback=4, linear=linear, relaxation=0.01,
         relaxation_stiffness=0.015, load_factor=0.9, hardening=0.0, schemes=["newton"], hardening_schemes=[],
         no_ccx=False, ref_elements=200, timeout=args.timeout, ccx_timeout=args.ccx_timeout,
         threads=args.threads, keep_output=args.keep_output, hencky_environ=args.hencky_environ)
     pargs.p_limit = pb.limit_pressure()
     pargs.p_end = pargs.load_factor * pargs.p_limit
+    return pargs
+
+
+def ccx_plastic(target, exe, work, args) -> dict:
+    """run_plastic_bench.py's cylinder (perfect plasticity, newton, its default controls): u(b)
+    against its 1D reference and Hill."""
+    pargs = plastic_args(args)
     refs = pb.references(pargs)["perfect"]
     variant = pb.variants(pargs)[0]
     problem = pb.register_geometry(2, 0.02)
@@ -585,6 +622,91 @@ def part_ccx(exe, work, args) -> dict:
         else:
             sizes.append(ccx_contact(target, exe, work, args))
     return dict(sizes=sizes)
+
+
+def memory_sizes(args, problem: str) -> list[int]:
+    """--memory-sizes (elastic) or --memory-plastic-sizes, each capped at --max-dofs (duplicates
+    after the cap dropped)."""
+    out = []
+    for x in (args.memory_sizes if problem == "elastic" else args.memory_plastic_sizes).split(","):
+        if x and capped(float(x), args) not in out:
+            out.append(capped(float(x), args))
+    return out
+
+
+def binary_info(exe: Path) -> dict:
+    """What identifies a binary of the memory part: path, version, build time and, when it sits
+    in a git checkout, that checkout's HEAD at the start and (as build_provenance) the last commit
+    changing src/, app/ or CMakeLists.txt before the build (uncommitted changes not seen)."""
+    built = binary_stamp(exe)
+    top = rb.sh(f"git -C {shlex.quote(str(exe.parent))} rev-parse --show-toplevel 2>/dev/null")
+
+    def git(cmd):
+        return (rb.sh(f"git -C {shlex.quote(top)} {cmd} 2>/dev/null") or None) if top else None
+
+    return dict(path=str(exe), version=rb.sh(f"{shlex.quote(str(exe))} --version"), built=built,
+                checkout=top or None, head=git("rev-parse --short HEAD"),
+                source=git(f"log -1 --format=%h --until={built} -- src app CMakeLists.txt"))
+
+
+def memory_run(exe: Path, binary: str, problem: str, target: int, run_dir: Path, case: Path, key: str, args) -> dict:
+    """One run of the memory part: `exe` (binary "hencky" or "baseline") on `case` in configuration
+    `key`, with its own output folder (out-memory[-baseline]-<key>) and log
+    (case.<key>.memory[-baseline].hencky.log), so the other parts' files on the same mesh and the
+    other binary's stay apart. The record gets the compared value: the bore displacement
+    (elastic) or u(b) (plastic), the final state of the run."""
+    tag = "memory" if binary == "hencky" else f"memory-{binary}"
+    out = run_dir / f"out-{tag}-{key}"
+    r = run_config(exe, case, out, key, args, args.timeout, tag=tag, petsc=args.memory_petsc)
+    rec = dict(r["record"], problem=problem, target_dofs=target, binary=binary, exe=str(exe))
+    s = r["summary"]
+    if s and rec["status"] == "converged":
+        probes = s.get("probes") or {}
+        if problem == "elastic":
+            comp, sign = rb.PROBLEMS["cylinder"]["sign"]
+            rec["value"] = sign * probes["probe"]["displacement"]["xyz"[comp]]
+        elif probes.get("outer"):
+            rec["value"] = probes["outer"]["displacement"]["x"]
+    if not args.keep_output:
+        shutil.rmtree(out, ignore_errors=True)
+    print(f"    {binary:8s} {rec['label']:26s} {rec['status']:10s} {rec['dofs'] or 0:>9d} dofs  wall {rec['wall']:8.2f} s  "
+          f"peak {mib(rec['peak_rank']):>6s} MiB/rank {mib(rec['peak_sum']):>6s} all; others {rec['others']:.2f}"
+          + (f"\n        {rec['failure']}" if rec.get("failure") and rec["status"] != "converged" else ""), flush=True)
+    return rec
+
+
+def part_memory(exe, work, args) -> dict:
+    """Per-rank peak memory on 1 and 2 ranks, elastic and plastic, for this binary and the
+    baseline (see the module notes)."""
+    binaries = [("hencky", exe)] + ([("baseline", args.baseline_hencky)] if args.baseline_hencky else [])
+    pargs = plastic_args(args, "petsc")
+    variant = pb.variants(pargs)[0]
+    ring = pb.register_geometry(2, 0.02)
+    info = {b: binary_info(path) for b, path in binaries}  # before the runs: a rebuild meanwhile is noticed
+    runs = []
+    for problem in ("elastic", "plastic"):
+        for target in memory_sizes(args, problem):
+            if problem == "elastic":
+                msh, gmsh_seconds, h = rb.size_for("cylinder", target, work, args.threads)
+                run_dir = linked_run_dir(msh, work)
+                case = elastic_case("cylinder", run_dir, msh)
+            else:
+                # run_plastic_bench's case file (as pb.run_hencky_case writes it), linear: petsc
+                msh, gmsh_seconds, h = rb.size_for(ring, target, work, args.threads)
+                run_dir = linked_run_dir(msh, work, "plastic")
+                case = run_dir / f"case-{variant['name']}-newton.yaml"
+                case.write_text(pb.hencky_case(run_dir / msh.name, "newton", variant, pargs))
+            print(f"[memory {problem} ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
+            for key in (f"{args.memory_solver}-1", f"{args.memory_solver}-2"):
+                for binary, path in binaries:
+                    quiet(args)
+                    runs.append(dict(memory_run(path, binary, problem, target, run_dir, case, key, args),
+                                     h=h, msh=str(msh), gmsh_seconds=gmsh_seconds))
+    return dict(binaries=info, exact=rb.lame_bore_displacement(), solver=args.memory_solver,
+                petsc=args.memory_petsc,
+                plastic=dict(steps=pargs.steps, tolerance=pargs.tolerance, p_end=pargs.p_end, scheme="newton",
+                             layers=2, linear=pargs.linear),
+                runs=runs)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -856,6 +978,89 @@ def render_ccx(res: dict) -> str:
     return "\n".join(out)
 
 
+def held_whole(one: dict, two: dict) -> float | None:
+    """Bytes per unknown every rank holds beyond its half: (2 × largest rank of 2 − 1 rank) / unknowns."""
+    if not (one.get("peak_rank") and two.get("peak_rank") and one.get("dofs")):
+        return None
+    return (2 * two["peak_rank"] - one["peak_rank"]) / one["dofs"]
+
+
+def render_memory(res: dict) -> str:
+    M = res["parts"]["memory"]
+    bins = M["binaries"]
+    runs = {(r["problem"], r["target_dofs"], r["binary"], r["config"]): r for r in M["runs"]}
+    keys = sorted({k[:3] for k in runs}, key=lambda k: (k[0] != "elastic", k[1], list(bins).index(k[2])))
+    pl = M["plastic"]
+    solver = M.get("solver", "gamg")
+    solver_name = {"gamg": "CG + GAMG", "jacobi": "CG + point Jacobi (no multigrid set-up: hencky's own share)"}[solver]
+    if M.get("petsc"):
+        solver_name += f" with `--petsc \"{M['petsc']}\"`"
+    out = ["### 5. Per-rank peak memory: what every rank still holds whole\n",
+           f"`elastic`: the gamg part's cylinder and case (Lamé, one linear solve). `plastic`: the ccx part's plastic "
+           f"cylinder (run_plastic_bench.py, perfect plasticity, {pl['scheme']}, {pl['steps']} increments to "
+           f"p = {pl['p_end']:.4g} Pa, a slice {pl['layers']} elements thick) with `solver.linear: {pl['linear']}`. "
+           f"Both with {solver_name}: 1 rank = `hencky run` without mpirun on one core, 2 ranks = `mpirun -np 2`, one "
+           "thread each; one run each. MiB: summary.json peak_memory_bytes, the process's peak on 1 rank and the "
+           "largest rank's on 2 (sum over the ranks next to it). Wall: the process, /usr/bin/time -v.\n",
+           "| problem | unknowns | binary | status 1 / 2 ranks | wall s 1 rank | wall s 2 ranks | MiB 1 rank | "
+           "MiB largest of 2 ranks | MiB all 2 ranks | largest of 2 / 1 rank | held whole per rank, bytes / unknown | "
+           "others 1 / 2 |",
+           "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    shown = []
+    for prob, target, binary in keys:
+        one, two = runs.get((prob, target, binary, f"{solver}-1"), {}), runs.get((prob, target, binary, f"{solver}-2"), {})
+        dofs = one.get("dofs") or two.get("dofs")
+        hw = held_whole(one, two)
+        out.append(
+            f"| {prob} | {f'{dofs:,}' if dofs else '~' + f'{target:,}'} | {binary} | "
+            f"{status_cell(one) if one else '–'} / {status_cell(two) if two else '–'} | {fmt_s(one.get('wall'))} | "
+            f"{fmt_s(two.get('wall'))} | {mib(one.get('peak_rank'))} | {mib(two.get('peak_rank'))} | "
+            f"{mib(two.get('peak_sum'))} | "
+            + (f"{two['peak_rank'] / one['peak_rank']:.2f}" if one.get("peak_rank") and two.get("peak_rank") else "–")
+            + f" | {f'{hw:.0f}' if hw is not None else '–'} | {others_cell(one) if one else '–'} / "
+            f"{others_cell(two) if two else '–'} |")
+        for r in (one, two):
+            if r:
+                where = "1 rank" if r["ranks"] == 1 else f"{r['ranks']} ranks"
+                shown.append(dict(r, config=f"{prob}-{target}-{binary}-{r['config']}",
+                                  label=f"{prob} {dofs or target:,}, {binary}, {where}"))
+    out.append("")
+    out.append("Held whole per rank = (2 × MiB largest of 2 ranks − MiB 1 rank) / unknowns, in bytes per unknown: "
+               "with R bytes held whole by every process and D distributed, 1 rank peaks at R + D and each of 2 "
+               "ranks at about R + D/2, so the estimate is R (0 if nothing were replicated; the ratio would then be "
+               "0.5). It also counts what a process of 2 holds beyond a serial one (MPI buffers, ghosts), the "
+               "2-rank imbalance (the largest rank is taken) and each process's fixed start-up memory (libraries), "
+               "which weighs on small models.\n")
+    lines = []
+    for prob, binary in sorted({k[::2] for k in keys}, key=lambda k: (k[0] != "elastic", list(bins).index(k[1]))):
+        pts = []
+        for target in sorted({k[1] for k in keys if k[0] == prob and k[2] == binary}):
+            one, two = runs.get((prob, target, binary, f"{solver}-1"), {}), runs.get((prob, target, binary, f"{solver}-2"), {})
+            if held_whole(one, two) is not None:
+                pts.append((one["dofs"], 2 * two["peak_rank"] - one["peak_rank"]))
+        if len(pts) >= 2 and pts[-1][0] != pts[0][0]:
+            (na, ra), (nb, rb_) = pts[0], pts[-1]
+            lines.append(f"- {prob}, {binary}: {(rb_ - ra) / (nb - na):.0f} bytes per unknown held whole per rank "
+                         f"between {na:,} and {nb:,} unknowns")
+    if lines:
+        out.append("Between two sizes the fixed memory of a process cancels: (difference of 2 × largest of 2 − 1 "
+                   "rank) / (difference of unknowns), the replicated bytes per added unknown:\n")
+        out += lines
+        out.append("")
+    out.append("Binaries: " + "; ".join(
+        f"{b} = `{i['path'].replace(str(ROOT) + '/', '')}` ({i['version']}, built {i['built']}"
+        + (f"; its checkout's HEAD at the start {i['head']}" if i.get("head") else "")
+        + (f", last commit changing src/, app/ or CMakeLists.txt before the build {i['source']}" if i.get("source") else "")
+        + ")" for b, i in bins.items()) + ".\n")
+    notes = [f"- {r['label']}: {r['failure']}" for r in shown if r.get("failure") and r["status"] != "converged"]
+    if notes:
+        out.append("Failures, as reported:\n")
+        out += notes
+        out.append("")
+    out.append(reproduce(res, "memory", shown))
+    return "\n".join(out)
+
+
 def render(res: dict) -> str:
     m = res["machine"]
     out = [f"## Parallel benchmark run {res['timestamp']} ({res['date']})\n", "### Machine and run\n",
@@ -878,7 +1083,8 @@ def render(res: dict) -> str:
                "(`linear: petsc` → CG + GAMG, `linear: direct` → MUMPS). Every rank reads the whole mesh and "
                "keeps full-length nodal vectors and integration-point arrays; the element work, the matrix and "
                "the linear solve are distributed (docs/parallel.md).\n")
-    for part, fn in (("gamg", render_gamg), ("scaling", render_scaling), ("largest", render_largest), ("ccx", render_ccx)):
+    for part, fn in (("gamg", render_gamg), ("scaling", render_scaling), ("largest", render_largest), ("ccx", render_ccx),
+                     ("memory", render_memory)):
         if part in res["parts"]:
             out.append(fn(res))
     return "\n".join(out)
@@ -903,6 +1109,18 @@ def main():
     ap.add_argument("--largest-shrink", type=float, default=0.7, help="largest part: next target = this x the failed one")
     ap.add_argument("--largest-attempts", type=int, default=3, help="largest part: at most this many sizes (default 3)")
     ap.add_argument("--largest-timeout", type=float, default=1500, help="largest part: time limit of the run, s (default 1500)")
+    ap.add_argument("--memory-sizes", default="100000,400000",
+                    help="memory part: target unknowns of the elastic cylinder (default 100000,400000)")
+    ap.add_argument("--memory-plastic-sizes", default="50000,100000",
+                    help="memory part: target unknowns of the plastic cylinder (default 50000,100000; "
+                         "its 20 Newton increments take minutes a run from ~100k up)")
+    ap.add_argument("--memory-solver", choices=("gamg", "jacobi"), default="gamg",
+                    help="memory part: the PETSc solver of every run (default gamg; jacobi has no multigrid set-up, "
+                         "so the figures are hencky's own)")
+    ap.add_argument("--memory-petsc", default="",
+                    help="memory part: PETSc options added to every run (e.g. \"-matptap_via allatonce\")")
+    ap.add_argument("--baseline-hencky", type=Path, default=None,
+                    help="memory part: repeat every run with this hencky binary too (another build, compared in one run)")
     ap.add_argument("--ccx-cases", default="cylinder=100000,cantilever=100000,plastic=60000,contact=40000",
                     help="ccx part: problem=target unknowns, comma separated (cylinder, cantilever, plastic, contact)")
     ap.add_argument("--ccx-repeat", type=int, default=1, help="ccx part: runs of each program (default 1)")
@@ -932,6 +1150,10 @@ def main():
         args.scaling_configs = f"cholmod-{args.threads}t,cholmod-1t,gamg-1,gamg-2,mumps-1,mumps-2"
     args.timeout = args.timeout or None
     args.ccx_timeout = args.ccx_timeout or None
+    if args.baseline_hencky and "memory" in parts:
+        if not args.baseline_hencky.exists():
+            raise SystemExit(f"--baseline-hencky: {args.baseline_hencky} not found")
+        args.baseline_hencky = args.baseline_hencky.resolve()
     exe, work, stamp = rb.prepare_run(args)
     m = rb.machine_info()
     print(f"machine: {m['cpu']}, {m['nproc']} cores, {m['memory_bytes'] / 2**30:.1f} GiB; hencky {exe}; "
@@ -956,7 +1178,7 @@ def main():
     jpath = args.results / f"parallel-{stamp}.json"
     mdpath = args.results / f"parallel-{stamp}.md"
     t_start = time.perf_counter()
-    for part in PARTS:  # always in this order: the largest model last (it may exhaust the machine)
+    for part in PARTS:  # always in this order (the largest model last but for the memory part's moderate sizes)
         if part not in parts:
             continue
         t0 = time.perf_counter()
@@ -966,12 +1188,18 @@ def main():
             result["parts"]["scaling"] = part_scaling(exe, work, args)
         elif part == "ccx":
             result["parts"]["ccx"] = part_ccx(exe, work, args)
+        elif part == "memory":
+            result["parts"]["memory"] = part_memory(exe, work, args)
         else:
             result["parts"]["largest"] = part_largest(exe, work, args, result["parts"].get("gamg"))
         result["parts"][part]["seconds"] = time.perf_counter() - t0
         if binary_stamp(exe) != result["hencky_built"]:
             result.setdefault("warnings", []).append(f"{exe} was rebuilt during the part {part} "
                                                      f"({binary_stamp(exe)}): its figures may mix two builds")
+        base = (result["parts"][part].get("binaries") or {}).get("baseline") if part == "memory" else None
+        if base and binary_stamp(Path(base["path"])) != base["built"]:
+            result.setdefault("warnings", []).append(f"{base['path']} (--baseline-hencky) was rebuilt during the part "
+                                                     f"{part} ({binary_stamp(Path(base['path']))}): its figures may mix two builds")
         result["seconds"] = time.perf_counter() - t_start
         # written after every part: a long run that is stopped keeps what it measured
         jpath.write_text(json.dumps(result, indent=1))
