@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <petscksp.h>
 
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -37,6 +38,8 @@ struct PetscSolver::Impl {
   Mat elements = nullptr;  ///< keep_elements(): the elements' part of A
   Vec b = nullptr, x = nullptr, r = nullptr, x_all = nullptr;
   bool preonly = false;  ///< the KSP applies the preconditioner once (a direct solve)
+  bool fixed_rtol = true;  ///< set_relative_tolerance does nothing (direct, or -ksp_rtol given)
+  PetscReal rtol_floor = 0, rtol_now = 0;
   VecScatter to_all = nullptr;
   KSP ksp = nullptr;
   bool assembled_once = false;
@@ -166,6 +169,11 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   KSPGetType(s.ksp, &kt);
   PCGetType(pc, &pt);
   s.preonly = std::string(kt) == KSPPREONLY;
+  PetscBool rtol_given = PETSC_FALSE;
+  check_petsc(PetscOptionsHasName(nullptr, nullptr, "-ksp_rtol", &rtol_given), "PetscOptionsHasName");
+  s.fixed_rtol = s.preonly || rtol_given;
+  check_petsc(KSPGetTolerances(s.ksp, &s.rtol_floor, nullptr, nullptr, nullptr), "KSPGetTolerances");
+  s.rtol_now = s.rtol_floor;
   std::string method = fmt::format("PETSc {} + {}", kt, pt);
   MatSolverType st = nullptr;
   if (PCFactorGetMatSolverType(pc, &st) == 0 && st) method += fmt::format(" ({})", st);
@@ -182,6 +190,16 @@ std::vector<std::string> PetscSolver::unused_options() const {
     if (PetscOptionsUsed(nullptr, name.c_str() + 1, &used) == 0 && !used) out.push_back(name);
   }
   return out;
+}
+
+void PetscSolver::set_relative_tolerance(double rtol) {
+  Impl& s = *impl_;
+  if (s.fixed_rtol) return;
+  const PetscReal r = std::clamp<PetscReal>(rtol, s.rtol_floor, std::max<PetscReal>(s.rtol_floor, 0.1));
+  if (r == s.rtol_now) return;
+  s.rtol_now = r;
+  check_petsc(KSPSetTolerances(s.ksp, r, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT),
+              "KSPSetTolerances");
 }
 
 void PetscSolver::begin_matrix() {
