@@ -154,6 +154,10 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partiti
   if (preset == PetscPreset::gamg) {
     check_petsc(KSPSetType(s.ksp, KSPCG), "KSPSetType");
     check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+    // CG stops on the true residual ‖b − Ax‖ (PETSc's default for CG is the preconditioned
+    // one): the step loop's tolerance for a solve (set_relative_tolerance) is a fraction of
+    // the true residual, and the preconditioned norm can differ from it by orders.
+    check_petsc(KSPSetNormType(s.ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
   } else {
     check_petsc(KSPSetType(s.ksp, KSPPREONLY), "KSPSetType");
     check_petsc(PCSetType(pc, PCCHOLESKY), "PCSetType");
