@@ -5,6 +5,8 @@
 #include <Eigen/SparseCore>
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "linalg/linear_solver.hpp"
 
@@ -18,6 +20,7 @@ class CgSolver final : public LinearSolver {
 
  public:
   explicit CgSolver(double tolerance) : tolerance_(tolerance) {
+    cg_.setTolerance(tolerance_);
     stats_.description = "conjugate gradients, incomplete Cholesky preconditioner (Eigen)";
   }
   void analyze(const SymmetricPattern& p) override {
@@ -28,7 +31,6 @@ class CgSolver final : public LinearSolver {
     const Map a(pattern_->n, pattern_->n, pattern_->nnz(), pattern_->col_ptr.data(),
                 pattern_->row.data(), values.data());
     matrix_ = a.cast<double>();  // IncompleteCholesky and CG keep references into the matrix they are given
-    cg_.setTolerance(tolerance_);
     cg_.setMaxIterations(std::max<std::int64_t>(1000, 10 * pattern_->n));
     cg_.compute(matrix_);
     if (cg_.info() != Eigen::Success)
@@ -47,6 +49,10 @@ class CgSolver final : public LinearSolver {
                                    cg_.error(), cg_.iterations()));
   }
   const LinearSolverStats& stats() const override { return stats_; }
+  void set_relative_tolerance(double rtol) override {
+    // Eigen's CG measures the true residual ‖b − Ax‖ / ‖b‖, as the forcing term needs.
+    cg_.setTolerance(std::clamp(rtol, tolerance_, std::max(tolerance_, 0.1)));
+  }
 
  private:
   double tolerance_;

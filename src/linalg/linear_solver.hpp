@@ -30,6 +30,10 @@ class LinearSolver {
   virtual void factorize(std::span<const double> values) = 0;
   virtual void solve(std::span<const double> rhs, std::span<double> x) = 0;
   virtual const LinearSolverStats& stats() const = 0;
+  /// The relative residual the next solves of an iterative back end must reach: `rtol`, but
+  /// never below the back end's own tolerance nor above 0.1. The step loop loosens it while the
+  /// nonlinear residual is far from its tolerance (inexact Newton). Direct back ends ignore it.
+  virtual void set_relative_tolerance(double /*rtol*/) {}
 };
 
 enum class LinearSolverKind { direct, iterative };

@@ -55,11 +55,9 @@ class PetscSolver final : public LinearSolver {
   /// SolverOptionsError when the failure is one of the options (an algorithm that does not
   /// exist or does not apply).
   void set_up();
-  /// The relative tolerance of the next Krylov solves: `rtol`, but never below the solver's
-  /// own (`tolerance`) nor above 0.1. No effect on a direct solve or when -ksp_rtol was given
-  /// (the user's tolerance stands). The step loop loosens it while the nonlinear residual is
-  /// far above its tolerance (an inexact Newton method).
-  void set_relative_tolerance(double rtol);
+  /// LinearSolver::set_relative_tolerance for the Krylov solve: no effect on a direct solve
+  /// (MUMPS) or when -ksp_rtol was given (the user's tolerance stands).
+  void set_relative_tolerance(double rtol) override;
 
   // LinearSolver: the pattern interface of the serial back ends is not used here.
   void analyze(const SymmetricPattern&) override;

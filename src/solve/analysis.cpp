@@ -244,11 +244,11 @@ class StepSolver {
                                 (options_.matrix_per_step() && iterations <= 1)));
       const bool refactor = new_elements || contact_.matrix_stale(trial);
       if (refactor) assemble_and_factorize(trial, new_elements);
-      // An iterative PETSc solve need only reduce this iterate's residual to 0.1 % of the step's
+      // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
       // tolerance, not to its own default (an inexact Newton method with a fixed forcing term,
       // after Eisenstat and Walker): the error it leaves is a thousandth of what convergence
       // allows, and the residual recomputed from the points still decides.
-      if (petsc_ && residual > 0) petsc_->set_relative_tolerance(1e-3 * spec.tolerance / residual);
+      if (residual > 0) solver_.set_relative_tolerance(1e-3 * spec.tolerance / residual);
       auto t0 = Clock::now();
       failed_in_linear_solver_ = true;
       solver_.solve(rhs, delta_);
