@@ -21,13 +21,9 @@ std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) 
   return recover_fields(model, state).nodal_stress;
 }
 
-NodalPlastic recover_nodal_plastic(const Model& model, const State& state) {
-  RecoveredFields f = recover_fields(model, state);
-  return {std::move(f.nodal_plastic_strain), std::move(f.nodal_eps_p_eq)};
-}
-
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
-                         const std::vector<Voigt>& nodal_stress, const NodalPlastic& plastic) {
+                         const std::vector<Voigt>& nodal_stress,
+                         std::span<const double> nodal_eps_p_eq) {
   const auto& mesh = model.mesh();
   const auto nodes = mesh.cells.nodes(probe.cell);
   double N[max_cell_nodes];
@@ -38,7 +34,7 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
     v.displacement += N[a] * Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]);
     v.stress += N[a] * nodal_stress[n];
     v.temperature += N[a] * state.nodal_temperature[n];
-    if (!plastic.equivalent.empty()) v.equivalent_plastic_strain += N[a] * plastic.equivalent[n];
+    if (!nodal_eps_p_eq.empty()) v.equivalent_plastic_strain += N[a] * nodal_eps_p_eq[n];
   }
   v.von_mises = von_mises(v.stress);
   return v;
@@ -157,7 +153,6 @@ void ResultWriter::abandon() {
 void ResultWriter::step_done(const StepReport& report, const State& state,
                              const RecoveredFields& fields) {
   const auto& nodal_stress = fields.nodal_stress;
-  const NodalPlastic plastic{fields.nodal_plastic_strain, fields.nodal_eps_p_eq};
   const auto reactions = region_reactions(model_, state);
 
   // history.csv and the values the summary reports
@@ -165,7 +160,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
                           report.residual);
   nlohmann::json probes = nlohmann::json::object(), reaction_json = nlohmann::json::object();
   for (const auto& p : model_.probes()) {
-    const ProbeValues v = probe_values(model_, p, state, nodal_stress, plastic);
+    const ProbeValues v = probe_values(model_, p, state, nodal_stress, fields.nodal_eps_p_eq);
     auto& j = probes[p.spec->name];
     for (int d = 0; d < 3; ++d) {
       history_ << fmt::format(",{:.17g}", v.displacement[d]);
@@ -228,13 +223,13 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   zeros_.assign(6 * static_cast<std::size_t>(n), 0.0);
   const std::span<const double> zero6(zeros_), zero1(zeros_.data(), n);
   // Plastic strain as a tensor (ε_xy = γ_xy / 2), in ParaView's order like the stress.
-  std::vector<double> eps_p, eqp;
-  if (!plastic.strain.empty()) {
+  std::vector<double> eps_p;
+  if (!fields.nodal_plastic_strain.empty()) {
     eps_p.resize(6 * static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < 6; ++c)
-        eps_p[6 * i + c] = plastic.strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
-    eqp = plastic.equivalent;
+        eps_p[6 * i + c] =
+            fields.nodal_plastic_strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
   }
   const NodalContact contact = nodal_contact(model_, state);
   const auto or_zero = [&](const std::vector<double>& v) {
@@ -246,7 +241,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
       {"von_mises", 1, vm},
       {"temperature", 1, state.nodal_temperature},
       {"plastic_strain", 6, eps_p.empty() ? zero6 : std::span<const double>(eps_p)},
-      {"equivalent_plastic_strain", 1, eqp.empty() ? zero1 : std::span<const double>(eqp)},
+      {"equivalent_plastic_strain", 1, or_zero(fields.nodal_eps_p_eq)},
       {"contact_pressure", 1, or_zero(contact.pressure)},
       {"contact_state", 1, or_zero(contact.state)},
       {"contact_gap", 1, or_zero(contact.gap)},

@@ -19,14 +19,6 @@ namespace hencky {
 /// Collective on several ranks, like recover_fields.
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state);
 
-/// Plastic strain (engineering shears) and equivalent plastic strain recovered to the nodes
-/// like the stress; empty without plasticity. Collective on several ranks.
-struct NodalPlastic {
-  std::vector<Voigt> strain;
-  std::vector<double> equivalent;
-};
-NodalPlastic recover_nodal_plastic(const Model& model, const State& state);
-
 struct ProbeValues {
   Vec3 displacement;
   Voigt stress;
@@ -35,7 +27,8 @@ struct ProbeValues {
   double equivalent_plastic_strain;
 };
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
-                         const std::vector<Voigt>& nodal_stress, const NodalPlastic& plastic = {});
+                         const std::vector<Voigt>& nodal_stress,
+                         std::span<const double> nodal_eps_p_eq = {});
 
 /// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext −
 /// F_contact).

@@ -5,8 +5,6 @@
 #include <Eigen/SparseCore>
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "core/error.hpp"
 #include "linalg/linear_solver.hpp"
 
@@ -51,7 +49,7 @@ class CgSolver final : public LinearSolver {
   const LinearSolverStats& stats() const override { return stats_; }
   void set_relative_tolerance(double rtol) override {
     // Eigen's CG measures the true residual ‖b − Ax‖ / ‖b‖, as the forcing term needs.
-    cg_.setTolerance(std::clamp(rtol, tolerance_, std::max(tolerance_, 0.1)));
+    cg_.setTolerance(forcing_tolerance(rtol, tolerance_));
   }
 
  private:

@@ -2,6 +2,7 @@
 // Linear solver back ends behind one interface. The step loop calls analyze() once per
 // pattern, factorize() only when the matrix values changed, and solve() per right-hand side:
 // a scheme that keeps its matrix pays a back-substitution per iteration, not a factorization.
+#include <algorithm>
 #include <memory>
 #include <span>
 #include <string>
@@ -34,6 +35,12 @@ class LinearSolver {
   /// never below the back end's own tolerance nor above 0.1. The step loop loosens it while the
   /// nonlinear residual is far from its tolerance (inexact Newton). Direct back ends ignore it.
   virtual void set_relative_tolerance(double /*rtol*/) {}
+
+ protected:
+  /// set_relative_tolerance's rule for a back end whose own tolerance is `floor`.
+  static double forcing_tolerance(double rtol, double floor) {
+    return std::clamp(rtol, floor, std::max(floor, 0.1));
+  }
 };
 
 enum class LinearSolverKind { direct, iterative };

@@ -199,7 +199,7 @@ std::vector<std::string> PetscSolver::unused_options() const {
 void PetscSolver::set_relative_tolerance(double rtol) {
   Impl& s = *impl_;
   if (s.fixed_rtol) return;
-  const PetscReal r = std::clamp<PetscReal>(rtol, s.rtol_floor, std::max<PetscReal>(s.rtol_floor, 0.1));
+  const PetscReal r = forcing_tolerance(rtol, s.rtol_floor);
   if (r == s.rtol_now) return;
   s.rtol_now = r;
   check_petsc(KSPSetTolerances(s.ksp, r, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT),

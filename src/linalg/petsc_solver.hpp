@@ -25,8 +25,9 @@ enum class PetscPreset { gamg, mumps };
 class PetscSolver final : public LinearSolver {
  public:
   /// Collective. `options` (PETSc options, later ones win) are in force while this solver
-  /// lives; std::invalid_argument when PETSc refuses them. `tolerance` is the default relative residual of the Krylov solve (-ksp_rtol
-  /// overrides it).
+  /// lives; std::invalid_argument when PETSc refuses them. `tolerance` is the tightest
+  /// relative residual of the Krylov solve (set_relative_tolerance loosens it per solve;
+  /// -ksp_rtol fixes it instead).
   PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition, PetscPreset preset,
               const std::string& options = "", double tolerance = 1e-10);
   ~PetscSolver() override;

@@ -92,23 +92,21 @@ void add_petsc_options(const std::string& options) {
 }
 
 namespace {
-void reduce_in_place(std::span<double> v, MPI_Op op) {
+template <class T>
+void reduce_in_place(std::span<T> v, MPI_Datatype type, MPI_Op op) {
   if (size() > 1)
-    MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, op, comm());
+    MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), type, op, comm());
 }
-}  // namespace
-
-void sum_in_place(std::span<double> v) { reduce_in_place(v, MPI_SUM); }
-void min_in_place(std::span<double> v) { reduce_in_place(v, MPI_MIN); }
-void max_in_place(std::span<double> v) { reduce_in_place(v, MPI_MAX); }
-
-namespace {
 template <class T>
 T reduce(T x, MPI_Datatype type, MPI_Op op) {
-  if (size() > 1) MPI_Allreduce(MPI_IN_PLACE, &x, 1, type, op, comm());
+  reduce_in_place(std::span<T>(&x, 1), type, op);
   return x;
 }
 }  // namespace
+
+void sum_in_place(std::span<double> v) { reduce_in_place(v, MPI_DOUBLE, MPI_SUM); }
+void min_in_place(std::span<double> v) { reduce_in_place(v, MPI_DOUBLE, MPI_MIN); }
+void max_in_place(std::span<double> v) { reduce_in_place(v, MPI_DOUBLE, MPI_MAX); }
 
 long long sum(long long x) { return reduce(x, MPI_LONG_LONG, MPI_SUM); }
 long long max(long long x) { return reduce(x, MPI_LONG_LONG, MPI_MAX); }

@@ -64,8 +64,6 @@ class Model {
   /// (point_offset(cell) == point_offset(cell + 1)).
   int point_offset(int cell) const { return point_offset_[cell]; }
   bool holds_points(int cell) const { return point_offset_[cell + 1] > point_offset_[cell]; }
-  /// Every cell's points are held here (one rank, or hold_points was not called).
-  bool holds_all_points() const { return n_points() == total_points_; }
   /// The points of the whole model, over all ranks.
   int total_points() const { return total_points_; }
   /// This rank stores the points of the cells with held[cell] != 0 only (the partition's own

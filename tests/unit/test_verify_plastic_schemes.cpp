@@ -500,11 +500,11 @@ TEST(VerifyPlasticSchemes, PlateWithHoleLinearHardeningOnePlasticStep) {
   // of the ligament (x = W, y = 0) elastic.
   const SchemeRun& n = *runs.front();
   const SchemeDifference d = difference(n.model(), n.state(), n.state(), 0.0);
-  const auto nodal = recover_nodal_stress(n.model(), n.state());
-  const auto plastic = recover_nodal_plastic(n.model(), n.state());
-  const ProbeValues edge =
-      probe_values(n.model(), n.model().probes()[0], n.state(), nodal, plastic);
-  const ProbeValues end = probe_values(n.model(), n.model().probes()[2], n.state(), nodal, plastic);
+  const RecoveredFields f = recover_fields(n.model(), n.state());
+  const ProbeValues edge = probe_values(n.model(), n.model().probes()[0], n.state(),
+                                        f.nodal_stress, f.nodal_eps_p_eq);
+  const ProbeValues end = probe_values(n.model(), n.model().probes()[2], n.state(),
+                                       f.nodal_stress, f.nodal_eps_p_eq);
   report(
       fmt::format("plate with hole: newton: {} plastic points of {} ({:.1f} % of the volume); "
                   "at the hole edge sigma_yy {:.4g} eps_p {:.3e}; at the ligament end eps_p {:.1e}",
