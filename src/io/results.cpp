@@ -202,8 +202,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   history_.flush();
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
 
-  const int every = model_.spec().output.every;
-  if (!report.last && report.step % every != 0) return;
+  if (!report.write_fields) return;
 
   // Fields
   const auto& mesh = model_.mesh();

@@ -831,6 +831,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     report.factorizations = stepper.factorizations() - factorizations_before;
     report.plastic_points = stepper.plastic_points();
     report.last = targets.empty();
+    report.write_fields = report.last || report.step % model.spec().output.every == 0;
     factorizations_before = stepper.factorizations();
     result.factorizations = stepper.factorizations();
     if (model.has_plasticity()) {
@@ -844,7 +845,8 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     if (const std::string line = stepper.contact_summary(committed); !line.empty())
       log.info("           {}", line);
     const auto t0 = Clock::now();
-    observer.step_done(report, committed, recover_fields(model, committed));
+    observer.step_done(report, committed,
+                       recover_fields(model, committed, report.write_fields));
     timings.output += seconds_since(t0);
   }
   return result;

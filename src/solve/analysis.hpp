@@ -44,6 +44,9 @@ struct StepReport {
   int factorizations = 0;  ///< matrix factorizations in this step (cut-back attempts included)
   int plastic_points = 0;  ///< integration points that flowed plastically in this step
   bool last = false;       ///< the final step of the analysis
+  /// The step's fields are written (every output.every-th step and the last): the recovered
+  /// fields then hold the cells' values too.
+  bool write_fields = false;
 };
 
 struct Timings {
@@ -57,8 +60,8 @@ class StepObserver {
  public:
   virtual ~StepObserver() = default;
   /// Called on every rank after every converged step with the committed state (this rank's
-  /// integration points) and the point values recovered to nodes and cells (whole on root,
-  /// empty on the other ranks).
+  /// integration points) and the point values recovered to the nodes, and to the cells when
+  /// report.write_fields (whole on root, empty on the other ranks).
   virtual void step_done(const StepReport& report, const State& state,
                          const RecoveredFields& fields) = 0;
 };

@@ -7,7 +7,7 @@
 
 namespace hencky {
 
-RecoveredFields recover_fields(const Model& model, const State& state) {
+RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells) {
   const auto& mesh = model.mesh();
   const int n_nodes = mesh.n_nodes(), n_cells = mesh.cells.size();
   const bool plastic = model.has_plasticity();
@@ -15,7 +15,7 @@ RecoveredFields recover_fields(const Model& model, const State& state) {
   // node σ (6), then ε^p (6) and ε̃^p (1) with plasticity; per cell σ (6), σ_vM, ε̃^p, zone.
   const int node_width = plastic ? 13 : 6, cell_width = 9;
   std::vector<double> nodal(static_cast<std::size_t>(node_width) * n_nodes, 0.0);
-  std::vector<double> cells(static_cast<std::size_t>(cell_width) * n_cells, 0.0);
+  std::vector<double> cells(with_cells ? static_cast<std::size_t>(cell_width) * n_cells : 0);
   std::vector<int> count(n_nodes, 0);  // cells at each node, over all ranks (the mesh is whole)
   for (int e = 0; e < n_cells; ++e) {
     const auto nodes = mesh.cells.nodes(e);
@@ -39,6 +39,7 @@ RecoveredFields recover_fields(const Model& model, const State& state) {
       for (int k = 0; k < 6; ++k) v[6 + k] += eps_p[k];
       v[12] += eqp;
     }
+    if (!with_cells) continue;
     // The cell means, as sums here (divided on root).
     double* c = &cells[static_cast<std::size_t>(cell_width) * e];
     for (int p = p0; p < p0 + tab.n_points; ++p) {
@@ -49,7 +50,7 @@ RecoveredFields recover_fields(const Model& model, const State& state) {
     }
   }
   par::sum_to_root(std::span<double>(nodal));
-  par::sum_to_root(std::span<double>(cells));
+  if (with_cells) par::sum_to_root(std::span<double>(cells));
   RecoveredFields f;
   if (!par::root()) return f;
   f.nodal_stress.assign(n_nodes, Voigt::Zero());
@@ -66,6 +67,7 @@ RecoveredFields recover_fields(const Model& model, const State& state) {
     // Extrapolation from the points may undershoot next to a plastic zone's edge.
     f.nodal_eps_p_eq[n] = std::max(v[12] / count[n], 0.0);
   }
+  if (!with_cells) return f;
   f.cell_stress.resize(n_cells);
   f.cell_von_mises.resize(n_cells);
   f.cell_eps_p_eq.resize(n_cells);

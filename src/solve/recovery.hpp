@@ -21,7 +21,8 @@ struct RecoveredFields {
 };
 
 /// Collective over the ranks: root gets the fields of the whole model, the other ranks empty
-/// vectors. On one rank, the fields of `state`.
-RecoveredFields recover_fields(const Model& model, const State& state);
+/// vectors. On one rank, the fields of `state`. The cells' fields only `with_cells` (the
+/// probes of every step need the nodal ones; the cells' are written on output steps only).
+RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells = true);
 
 }  // namespace hencky
