@@ -52,6 +52,16 @@ ex_check "parallel lame-cylinder: history.csv written once (a header and 2 steps
   "$d/mumps2/history.csv" 'len(h) == 2'
 ex_check "parallel lame-cylinder: GAMG iterates (more than one iteration a solve)" \
   "$d/gamg2/summary.json" 's["linear_solver"]["iterations"] > 2 * s["linear_solver"]["solves"]'
+# The solve's tolerance adapts to the Newton residual unless -ksp_rtol is given: then the
+# user's tolerance stands (more CG iterations than the adaptive default, closer to the direct
+# solution than the 1e-7 a default run is held to).
+expect "parallel lame-cylinder: -ksp_rtol 1e-12 given" 0 "" -- \
+  run "$d/case-petsc.yaml" -o "$d/rtol12" --quiet --petsc "-ksp_rtol 1e-12"
+ex_check "parallel lame-cylinder: -ksp_rtol given fixes the tolerance (more CG iterations than the default)" \
+  "$d/rtol12/summary.json" \
+  's["linear_solver"]["iterations"] > json.load(open(sys.argv[1].replace("rtol12", "petsc1")))["linear_solver"]["iterations"]'
+same "parallel lame-cylinder: -ksp_rtol 1e-12 = serial direct to 1e-9" "$d/direct" "$d/rtol12" 1e-9 \
+  displacement,stress
 expect "parallel lame-cylinder: --petsc options reach PETSc (hypre)" 0 "" -- \
   run "$d/case-petsc.yaml" -o "$d/hypre1" --quiet --petsc "-pc_type hypre -ksp_rtol 1e-10"
 ex_check "parallel lame-cylinder: summary names hypre" "$d/hypre1/summary.json" \
