@@ -47,11 +47,11 @@ ex_bad "bad input: missing mesh file" \
 "$ex_py" -c 'import random, sys; random.seed(1); open(sys.argv[1], "wb").write(bytes(random.getrandbits(8) for _ in range(4096)))' "$bd/garbage.msh"
 ex_variant garbage-msh 's/file: beam\.geo/file: garbage.msh/'
 ex_bad "bad input: a .msh file that is garbage (4 kB of fixed pseudo-random bytes)" \
-  "garbage\.msh: Gmsh cannot read this file" "$bd/garbage-msh.yaml"
+  "garbage\.msh:1: not a valid Gmsh mesh file: the file does not start with \\\$MeshFormat" "$bd/garbage-msh.yaml"
 printf '$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\nthis is not a node block\n$EndNodes\n' >"$bd/broken.msh"
 ex_variant broken-msh 's/file: beam\.geo/file: broken.msh/'
 ex_bad "bad input: a .msh file with a valid header and a garbage node block" \
-  "broken\.msh: Gmsh cannot read this file" "$bd/broken-msh.yaml"
+  "broken\.msh:5: not a valid Gmsh mesh file: the number of node blocks \(a non-negative integer\) expected, found .this." "$bd/broken-msh.yaml"
 
 # --- regions (the message lists the regions the mesh has)
 ex_variant region 's/region: tip$/region: tipp/'
