@@ -63,7 +63,7 @@ How the programs are run (the exact command of every run is recorded and shown):
               becomes PETSc MUMPS and `linear: petsc` CG + GAMG.
 Each configuration has its own case file, case.<configuration>.yaml, next to the mesh in
 bench/work/parallel-<mesh>/ (plastic-/contact- for the problems of those scripts, written by them).
-Wall time and peak memory come from /usr/bin/time -v (run_bench.timed) around the whole command
+Wall time and peak memory come from /usr/bin/time -v (runner.timed) around the whole command
 (for mpirun: the largest process); the per-rank peak (summary.json peak_memory_bytes) and the
 sum over the ranks (peak_memory_bytes_all_ranks) from hencky itself. For the comparison with ccx
 the memory of an MPI run is the sum over its ranks (mpirun's own process not included). Before
@@ -79,14 +79,14 @@ and records the cores they used during the run ("others"); runs disturbed by mor
 Results: bench/results/parallel-<stamp>.json and .md (rewritten after every part, so a stopped
 run keeps what it measured). Meshes and runs go to bench/work/ (meshes reused). Needs a Release
 build with PETSc (bash bench/setup.sh: build-bench/hencky), Open MPI's mpirun, Gmsh, ccx for the
-ccx part, /usr/bin/time. Uses run_bench.py's meshing, conversion, run and machine functions,
-run_plastic_bench.py's and run_contact_bench.py's cases, ccx inputs and result readers.
+ccx part, /usr/bin/time. The problems, their cases, ccx inputs and result readers, the meshing,
+the runs and the machine's facts are in the henckybench package (bench/henckybench/), as for
+the other scripts.
 Standard library + numpy only.
 """
 from __future__ import annotations
 
 import argparse
-import contextlib
 import datetime as dt
 import json
 import os
@@ -98,13 +98,12 @@ import time
 from pathlib import Path
 from types import SimpleNamespace
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import run_bench as rb  # noqa: E402
-import run_contact_bench as cb  # noqa: E402
-import run_plastic_bench as pb  # noqa: E402
+from henckybench import ROOT, calculix, gmsh, problems, report, runner
+from henckybench.problems import DELTA, PROBLEMS, Hertz, R, contact_problem, lame_bore_displacement, limit_pressure, plastic_problem
+from henckybench.report import fmt_err, fmt_s, mib, pct, ratio, sci, status_cell
+from henckybench.runs import (RunHencky, contact_ccx_row, contact_hencky_row, plastic_ccx_row, plastic_hencky_row,
+                              probe_value, references, rel_error, variants)
 
-ROOT, BENCH = rb.ROOT, rb.BENCH
-fmt_s, mib = rb.fmt_s, rb.mib
 PARTS = ("gamg", "scaling", "ccx", "largest", "memory")
 MUMPS_OPTIONS = "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps"
 
@@ -160,19 +159,11 @@ def shell_line(cwd: Path, cmd: list[str], env: dict) -> str:
             + "".join(f"{k}={shlex.quote(v)} " for k, v in env.items()) + shlex.join(cmd))
 
 
-def ccx_shell_line(run_dir: Path, job: str, threads: int) -> str:
-    """How run_bench.run_ccx runs ccx (its environment and line buffering), as one shell line."""
-    env = dict(OMP_NUM_THREADS=threads, CCX_NPROC_EQUATION_SOLVER=threads, CCX_NPROC_STIFFNESS=threads,
-               CCX_NPROC_RESULTS=threads, GFORTRAN_UNBUFFERED_PRECONNECTED="y")
-    return (f"cd {os.path.relpath(run_dir, ROOT)} && " + " ".join(f"{k}={v}" for k, v in env.items())
-            + f" stdbuf -oL -eL ccx -i {job}")
-
-
 def run_config(exe: Path, case: Path, out: Path, key: str, args, timeout: float | None = None,
                tag: str = "", petsc: str = "") -> dict:
     """hencky on `case` in configuration `key`: the case is copied to case.<key>.yaml with its
-    solver.linear set for the configuration, and run under /usr/bin/time -v (run_bench.timed).
-    Returns run_bench.run_hencky's fields (rc, wall, peak_rss, cpu, others, load_before,
+    solver.linear set for the configuration, and run under /usr/bin/time -v (runner.hencky_timed).
+    Returns runner.run_hencky's fields (rc, wall, peak_rss, cpu, others, load_before,
     timed_out, log, summary) and the configuration, the command and a summary of the run.
     tag: the log is case.<key>.<tag>.hencky.log instead of case.<key>.hencky.log (a part that
     runs the same case files as another keeps its own logs). petsc: PETSc options added after the
@@ -187,15 +178,9 @@ def run_config(exe: Path, case: Path, out: Path, key: str, args, timeout: float 
     run_case = case.parent / f"{case.stem}.{key}.yaml"
     run_case.write_text(text)
     cmd, env = hencky_command(exe, run_case, out, cfg)
-    if out.exists():
-        shutil.rmtree(out)
     log = case.parent / f"{run_case.stem}{'.' + tag if tag else ''}.hencky.log"
-    r = rb.timed(rb.with_timeout(cmd, timeout), case.parent, env=dict(args.hencky_environ, **env), log=log)
+    r = runner.hencky_timed(cmd, case, out, env=dict(args.hencky_environ, **env), log=log, timeout=timeout)
     r["tail"] = [line for _, line in r.pop("lines")[-6:]]
-    r["timed_out"] = bool(timeout) and r["rc"] in rb.TIMEOUT_EXIT
-    r["log"] = str(log)
-    summary = out / "summary.json"
-    r["summary"] = json.loads(summary.read_text()) if summary.exists() else None
     r["config"] = cfg
     r["command"] = shell_line(case.parent, cmd, env)
     r["record"] = run_record(r, timeout)
@@ -228,12 +213,11 @@ def run_record(r: dict, timeout: float | None) -> dict:
     return rec
 
 
-@contextlib.contextmanager
-def launched_as(key: str, args, records: list):
-    """run_plastic_bench's and run_contact_bench's hencky runs (which call run_bench.run_hencky)
-    in configuration `key`: run_bench.run_hencky is replaced meanwhile by run_config, and the
-    record of each run is appended to `records`."""
-    serial = rb.run_hencky
+def configured_run(key: str, args, records: list) -> RunHencky:
+    """A stand-in for runner.run_hencky (same arguments and result) that runs hencky in
+    configuration `key` (run_config) and appends the record of each run to `records`: how the
+    ccx part runs the plastic and contact problems' hencky rows (henckybench.runs) in its
+    configurations."""
 
     def run(exe, case, out, threads, env=None, timeout=None, check=True):
         r = run_config(exe, case, out, key, args, timeout)
@@ -242,52 +226,29 @@ def launched_as(key: str, args, records: list):
             raise SystemExit(f"hencky failed (exit {r['rc']}), see {r['log']}")
         return r
 
-    rb.run_hencky = run
-    try:
-        yield
-    finally:
-        rb.run_hencky = serial
+    return run
 
 
 # ----------------------------------------------------------------------------------------------
 # Helpers
 # ----------------------------------------------------------------------------------------------
-def quiet(args):
-    cb.quiet(args)
-
-
-def linked_run_dir(msh: Path, work: Path, prefix: str = "parallel") -> Path:
-    """work/<prefix>-<mesh>/ with a hard link to the mesh (no mesh read, unlike run_bench's
-    size_run_dir, which the ccx part uses for the same folder)."""
-    d = work / f"{prefix}-{msh.stem}"
-    d.mkdir(exist_ok=True)
-    target = d / msh.name
-    if not target.exists():
-        try:
-            os.link(msh, target)
-        except OSError:
-            shutil.copy(msh, target)
-    return d
-
-
-def elastic_case(problem: str, run_dir: Path, msh: Path) -> Path:
+def write_elastic_case(problem: str, run_dir: Path, msh: Path) -> Path:
     case = run_dir / "case.yaml"
-    case.write_text(rb.hencky_case(problem, run_dir / msh.name, "direct"))
+    case.write_text(problems.elastic_case(problem, run_dir / msh.name, "direct"))
     return case
 
 
 def elastic_run(exe, problem: str, run_dir: Path, case: Path, key: str, args, timeout=None, show=True) -> dict:
     """One elastic hencky run in configuration `key`, with the probe value and its error against
-    the closed form (run_bench's measure)."""
-    spec = rb.PROBLEMS[problem]
-    comp, sign = spec["sign"]
+    the closed form (run_bench.py's measure)."""
+    exact = PROBLEMS[problem]["exact"]()
     out = run_dir / f"out-{key}"
     r = run_config(exe, case, out, key, args, timeout)
     rec = r["record"]
     s = r["summary"]
     if s and rec["status"] == "converged":
-        rec["value"] = sign * s["probes"]["probe"]["displacement"]["xyz"[comp]]
-        rec["error"] = (rec["value"] - spec["exact"]()) / spec["exact"]()
+        rec["value"] = probe_value(problem, s)
+        rec["error"] = (rec["value"] - exact) / exact
     if not args.keep_output:
         shutil.rmtree(out, ignore_errors=True)
     if not show:
@@ -300,47 +261,19 @@ def elastic_run(exe, problem: str, run_dir: Path, case: Path, key: str, args, ti
     return rec
 
 
-def undisturbed(runs: list[dict], limit: float) -> list[dict]:
-    clean = [r for r in runs if r["others"] <= limit]
-    return clean or runs
-
-
 def combine(runs: list[dict], limit: float) -> dict:
     """One row from repeated runs of a configuration: the last converged run's figures with the
     medians of the times and memory over the undisturbed converged runs."""
     ok = [r for r in runs if r["status"] == "converged"]
-    use = undisturbed(ok or runs, limit)
+    use = runner.undisturbed(ok or runs, limit)
     row = dict(use[-1])
     for k in ("wall", "cpu", "peak_rss", "peak_rank", "peak_sum", "others", "load_before"):
-        row[k] = rb.median([r.get(k) for r in use])
+        row[k] = runner.median([r.get(k) for r in use])
     if use[-1].get("phases"):
-        row["phases"] = {p: rb.median([(r.get("phases") or {}).get(p) for r in use]) for p in use[-1]["phases"]}
+        row["phases"] = {p: runner.median([(r.get("phases") or {}).get(p) for r in use]) for p in use[-1]["phases"]}
     row.update(n=len(use), runs=len(runs), wall_all=[r["wall"] for r in runs],
                others_all=[r["others"] for r in runs], status_all=[r["status"] for r in runs])
     return row
-
-
-def binary_stamp(exe: Path) -> str:
-    """The binary's modification time: the benchmark notes a rebuild while it runs."""
-    return dt.datetime.fromtimestamp(exe.stat().st_mtime).astimezone().isoformat(timespec="seconds")
-
-
-def build_provenance(exe: Path) -> dict:
-    """Which sources the binary holds, as far as git and its modification time tell: the last
-    commit that changed src/, app/ or CMakeLists.txt before it was built, and the later ones
-    (committed after the build, so not in the measured binary)."""
-    built = binary_stamp(exe)
-    paths = "-- src app CMakeLists.txt"
-    return dict(built=built,
-                source=rb.sh(f"git -C {ROOT} log -1 --format=%h --until={built} {paths}"),
-                later=rb.sh(f"git -C {ROOT} log --format='%h %cI %s' --since={built} {paths}").splitlines())
-
-
-def mem_available() -> int:
-    for line in open("/proc/meminfo"):
-        if line.startswith("MemAvailable"):
-            return int(line.split()[1]) * 1024
-    return 0
 
 
 def capped(target: float, args) -> int:
@@ -355,36 +288,36 @@ def part_gamg(exe, work, args) -> dict:
     sizes = [x for x in sizes if x <= args.max_dofs]
     rows = []
     for target in sizes:
-        msh, gmsh_seconds, h = rb.size_for("cylinder", target, work, args.threads)
-        run_dir = linked_run_dir(msh, work)
-        case = elastic_case("cylinder", run_dir, msh)
+        msh, gmsh_seconds, h = gmsh.size_for("cylinder", target, work, args.threads)
+        run_dir = gmsh.mesh_run_dir(msh, work, "parallel")
+        case = write_elastic_case("cylinder", run_dir, msh)
         print(f"[gamg ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
         for key in ("gamg-1", "gamg-2"):
             runs = []
             for _ in range(max(1, args.gamg_repeat)):
-                quiet(args)
+                runner.quiet(args)
                 runs.append(elastic_run(exe, "cylinder", run_dir, case, key, args, args.timeout))
             rows.append(dict(combine(runs, args.disturbed), target_dofs=target, h=h, msh=str(msh),
                              gmsh_seconds=gmsh_seconds))
-    return dict(problem="cylinder", exact=rb.lame_bore_displacement(), rows=rows)
+    return dict(problem="cylinder", exact=lame_bore_displacement(), rows=rows)
 
 
 def part_scaling(exe, work, args) -> dict:
     target = capped(args.scaling_dofs, args)
-    msh, gmsh_seconds, h = rb.size_for("cylinder", target, work, args.threads)
-    run_dir = linked_run_dir(msh, work)
-    case = elastic_case("cylinder", run_dir, msh)
+    msh, gmsh_seconds, h = gmsh.size_for("cylinder", target, work, args.threads)
+    run_dir = gmsh.mesh_run_dir(msh, work, "parallel")
+    case = write_elastic_case("cylinder", run_dir, msh)
     keys = [k for k in args.scaling_configs.split(",") if k]
     print(f"[scaling ~{target / 1000:.0f}k] h = {h:g}: {msh.name}; {', '.join(keys)} x {args.repeat}", flush=True)
     runs = {k: [] for k in keys}
     for rep in range(max(1, args.repeat)):
         print(f"  repetition {rep + 1}", flush=True)
         for key in keys:
-            quiet(args)
+            runner.quiet(args)
             runs[key].append(elastic_run(exe, "cylinder", run_dir, case, key, args, args.timeout))
     rows = [dict(combine(runs[k], args.disturbed), target_dofs=target) for k in keys]
     return dict(problem="cylinder", target_dofs=target, h=h, msh=str(msh), gmsh_seconds=gmsh_seconds,
-                exact=rb.lame_bore_displacement(), repeat=args.repeat, rows=rows)
+                exact=lame_bore_displacement(), repeat=args.repeat, rows=rows)
 
 
 def part_largest(exe, work, args, gamg: dict | None) -> dict:
@@ -402,7 +335,7 @@ def part_largest(exe, work, args, gamg: dict | None) -> dict:
         if ref:
             att["estimate"] = dict(
                 from_dofs=ref["dofs"], memory_bytes=ref["peak_sum"] / ref["dofs"] * target * 1.1,
-                wall=ref["wall"] * (target / ref["dofs"]) ** 1.15, available_bytes=mem_available())
+                wall=ref["wall"] * (target / ref["dofs"]) ** 1.15, available_bytes=runner.mem_available())
             est = att["estimate"]
             print(f"[largest ~{target / 1e6:.2f}M] estimated from {ref['dofs']:,} unknowns: "
                   f"{est['memory_bytes'] / 2**30:.1f} GiB (available {est['available_bytes'] / 2**30:.1f} GiB), "
@@ -419,18 +352,18 @@ def part_largest(exe, work, args, gamg: dict | None) -> dict:
                 target = int(target * args.largest_shrink)
                 continue
         t0 = time.perf_counter()
-        msh, gmsh_seconds, h = rb.size_for("cylinder", target, work, args.threads)
+        msh, gmsh_seconds, h = gmsh.size_for("cylinder", target, work, args.threads)
         att.update(h=h, msh=str(msh), gmsh_seconds=gmsh_seconds, mesh_seconds_here=time.perf_counter() - t0)
-        run_dir = linked_run_dir(msh, work)
-        case = elastic_case("cylinder", run_dir, msh)
+        run_dir = gmsh.mesh_run_dir(msh, work, "parallel")
+        case = write_elastic_case("cylinder", run_dir, msh)
         print(f"[largest ~{target / 1e6:.2f}M] h = {h:g}: {msh.name}", flush=True)
-        quiet(args)
+        runner.quiet(args)
         rec = elastic_run(exe, "cylinder", run_dir, case, "gamg-2", args, args.largest_timeout or None)
         att.update(rec)
         if rec["status"] == "converged":
             break
         target = int(target * args.largest_shrink)
-    return dict(problem="cylinder", exact=rb.lame_bore_displacement(), attempts=attempts,
+    return dict(problem="cylinder", exact=lame_bore_displacement(), attempts=attempts,
                 estimated_from=ref["dofs"] if ref else None)
 
 
@@ -450,7 +383,7 @@ CCX_CONFIGS = ("cholmod-{threads}t", "gamg-2", "mumps-2")
 
 
 def merge_record(row: dict, records: list, key: str) -> dict:
-    """run_plastic_bench's / run_contact_bench's row of a hencky run, with this script's record
+    """The plastic or contact problem's row of a hencky run (henckybench.runs), with this script's record
     of the same run (configuration, command, per-rank memory, linear iterations)."""
     rec = records[-1] if records else {}
     out = dict(row)
@@ -461,21 +394,20 @@ def merge_record(row: dict, records: list, key: str) -> dict:
 
 def side_by_side(size: dict, args, hencky_row, ccx_row, measure) -> dict:
     """The runs of one problem of the ccx part, --ccx-repeat times: hencky in each of CCX_CONFIGS
-    (hencky_row(key) -> row, with run_bench.run_hencky redirected to the configuration for the
-    scripts that call it), then ccx (ccx_row() -> row). measure(row) sets a converged row's
+    (hencky_row(key, run) -> row; run: configured_run for the configuration, for the rows of
+    henckybench.runs that take it), then ccx (ccx_row() -> row). measure(row) sets a converged row's
     `errors` (one per entry of size["measures"]) and `compare` (the value compared between the
     programs), and returns a short text for the progress line."""
     for _ in range(max(1, args.ccx_repeat)):
         for key in [k.format(threads=args.threads) for k in CCX_CONFIGS] + ["ccx"]:
-            quiet(args)
+            runner.quiet(args)
             if key == "ccx":
                 row = ccx_row()
                 row.update(config="ccx", label=f"CalculiX ccx, {args.threads} threads", program="ccx",
                            peak_sum=row["peak_rss"])
             else:
                 records = []
-                with launched_as(key, args, records):
-                    row = merge_record(hencky_row(key), records, key)
+                row = merge_record(hencky_row(key, configured_run(key, args, records)), records, key)
             text = measure(row) if row["status"] == "converged" else ""
             row.setdefault("errors", [None] * len(size["measures"]))
             size["rows"].append(row)
@@ -492,27 +424,27 @@ def side_by_side(size: dict, args, hencky_row, ccx_row, measure) -> dict:
 
 def ccx_elastic(problem, target, exe, work, args) -> dict:
     """run_bench.py's problem: the probe displacement against the closed form."""
-    spec = rb.PROBLEMS[problem]
+    spec = PROBLEMS[problem]
     comp, sign = spec["sign"]
     exact = spec["exact"]()
-    msh, gmsh_seconds, h = rb.size_for(problem, target, work, args.threads)
-    run_dir, mesh = rb.size_run_dir(msh, work, "parallel")
-    info = rb.write_ccx_inp(problem, mesh, run_dir / "job.inp")
+    msh, gmsh_seconds, h = gmsh.size_for(problem, target, work, args.threads)
+    run_dir, mesh = gmsh.size_run_dir(msh, work, "parallel")
+    info = calculix.write_elastic_inp(problem, mesh, run_dir / "job.inp")
     size = dict(problem=problem, target_dofs=target, h=h, msh=str(msh), nodes=int(len(mesh["node_tags"])),
                 elements=int(len(mesh["tets"])), measures=[spec["quantity"] + " vs " + spec["reference"]],
                 exact=exact, rows=[])
     del mesh
-    case = elastic_case(problem, run_dir, msh)
+    case = write_elastic_case(problem, run_dir, msh)
     print(f"[ccx {problem} ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
 
     def ccx_row():
-        c = rb.run_ccx(run_dir, "job", args.threads, timeout=args.ccx_timeout, check=False)
+        c = calculix.run_ccx(run_dir, "job", args.threads, timeout=args.ccx_timeout, check=False)
         row = {k: c[k] for k in ("wall", "cpu", "peak_rss", "others", "load_before", "cpus", "rc")}
         row.update(status="converged" if c["ok"] else ("timeout" if c["timed_out"] else "error"),
                    failure="; ".join(c.get("errors") or []) or None,
-                   command=ccx_shell_line(run_dir, "job", args.threads))
+                   command=calculix.ccx_shell_line(run_dir, "job", args.threads))
         if c["ok"]:
-            row["value"] = sign * rb.parse_ccx_dat(run_dir / "job.dat", info["probe_node"])[comp]
+            row["value"] = sign * calculix.parse_ccx_dat(run_dir / "job.dat", info["probe_node"])[comp]
         if not args.keep_output:
             (run_dir / "job.frd").unlink(missing_ok=True)
         return row
@@ -522,7 +454,7 @@ def ccx_elastic(problem, target, exe, work, args) -> dict:
         row["compare"] = row["value"]
         return f"error {row['errors'][0]:+.3e}"
 
-    return side_by_side(size, args, lambda key: elastic_run(exe, problem, run_dir, case, key, args, args.timeout, show=False),
+    return side_by_side(size, args, lambda key, run: elastic_run(exe, problem, run_dir, case, key, args, args.timeout, show=False),
                         ccx_row, measure)
 
 
@@ -534,7 +466,7 @@ def plastic_args(args, linear: str = "direct") -> SimpleNamespace:
         relaxation_stiffness=0.015, load_factor=0.9, hardening=0.0, schemes=["newton"], hardening_schemes=[],
         no_ccx=False, ref_elements=200, timeout=args.timeout, ccx_timeout=args.ccx_timeout,
         threads=args.threads, keep_output=args.keep_output, hencky_environ=args.hencky_environ)
-    pargs.p_limit = pb.limit_pressure()
+    pargs.p_limit = limit_pressure()
     pargs.p_end = pargs.load_factor * pargs.p_limit
     return pargs
 
@@ -543,13 +475,13 @@ def ccx_plastic(target, exe, work, args) -> dict:
     """run_plastic_bench.py's cylinder (perfect plasticity, newton, its default controls): u(b)
     against its 1D reference and Hill."""
     pargs = plastic_args(args)
-    refs = pb.references(pargs)["perfect"]
-    variant = pb.variants(pargs)[0]
-    problem = pb.register_geometry(2, 0.02)
-    msh, gmsh_seconds, h = rb.size_for(problem, target, work, args.threads)
-    run_dir, mesh = rb.size_run_dir(msh, work, "plastic")
+    refs = references(pargs)["perfect"]
+    variant = variants(pargs)[0]
+    problem = plastic_problem(2, 0.02)
+    msh, gmsh_seconds, h = gmsh.size_for(problem, target, work, args.threads)
+    run_dir, mesh = gmsh.size_run_dir(msh, work, "plastic")
     job = "ccx-perfect"
-    info = pb.write_ccx_plastic_inp(mesh, run_dir / f"{job}.inp", variant, pargs)
+    info = calculix.write_plastic_inp(mesh, run_dir / f"{job}.inp", variant, pargs)
     size = dict(problem="plastic", target_dofs=target, h=h, msh=str(msh), nodes=int(len(mesh["node_tags"])),
                 elements=int(len(mesh["tets"])), references=refs,
                 measures=["u(b) vs the 1D reference", "u(b) vs Hill"], rows=[],
@@ -560,19 +492,19 @@ def ccx_plastic(target, exe, work, args) -> dict:
           f"Hill {refs['hill']:.6e}", flush=True)
 
     def ccx_row():
-        row = pb.run_ccx_case(run_dir, job, info, variant, pargs)
-        row["command"] = ccx_shell_line(run_dir, job, args.threads)
+        row = plastic_ccx_row(run_dir, job, info, variant, pargs)
+        row["command"] = calculix.ccx_shell_line(run_dir, job, args.threads)
         return row
 
     def measure(row):
         if row.get("u_outer") is None:
             return ""
-        row["errors"] = [pb.errors(row["u_outer"], refs["u_outer"]), pb.errors(row["u_outer"], refs["hill"])]
+        row["errors"] = [rel_error(row["u_outer"], refs["u_outer"]), rel_error(row["u_outer"], refs["hill"])]
         row["compare"] = row["u_outer"]
         return f"u(b) vs 1D {pct(row['errors'][0], 3)}"
 
-    return side_by_side(size, args, lambda key: pb.run_hencky_case(exe, run_dir, run_dir / msh.name, "newton",
-                                                                   variant, pargs), ccx_row, measure)
+    return side_by_side(size, args, lambda key, run: plastic_hencky_row(exe, run_dir, run_dir / msh.name, "newton",
+                                                                        variant, pargs, run=run), ccx_row, measure)
 
 
 def ccx_contact(target, exe, work, args) -> dict:
@@ -581,32 +513,32 @@ def ccx_contact(target, exe, work, args) -> dict:
     cargs = SimpleNamespace(steps=4, block=100.0, penetration=None, ccx_stiffness=10.0, timeout=args.timeout,
                             ccx_timeout=args.ccx_timeout, threads=args.threads, keep_output=args.keep_output,
                             hencky_environ=args.hencky_environ)
-    hz = cb.Hertz(cb.R)
-    P0, p00 = hz.force(cb.DELTA), hz.peak(cb.DELTA)
-    problem = cb.register_geometry(cargs.block)
-    msh, gmsh_seconds, hc = rb.size_for(problem, target, work, args.threads)
-    run_dir, mesh = rb.size_run_dir(msh, work, "contact")
-    info = cb.write_ccx_contact_inp(mesh, run_dir / "job.inp", hc, cargs)
+    hz = Hertz(R)
+    P0, p00 = hz.force(DELTA), hz.peak(DELTA)
+    problem = contact_problem(cargs.block)
+    msh, gmsh_seconds, hc = gmsh.size_for(problem, target, work, args.threads)
+    run_dir, mesh = gmsh.size_run_dir(msh, work, "contact")
+    info = calculix.write_contact_inp(mesh, run_dir / "job.inp", hc, cargs)
     size = dict(problem="contact", target_dofs=target, h=hc, msh=str(msh), nodes=int(len(mesh["node_tags"])),
-                elements=int(len(mesh["tets"])), hertz=dict(P=P0, p0=p00, a=hz.radius(cb.DELTA)),
+                elements=int(len(mesh["tets"])), hertz=dict(P=P0, p0=p00, a=hz.radius(DELTA)),
                 measures=["P vs Hertz", "p0 (p² fit) vs Hertz"], rows=[],
                 parameters=dict(steps=cargs.steps, block=cargs.block, ccx_stiffness=cargs.ccx_stiffness))
     del mesh
     print(f"[ccx contact ~{target / 1000:.0f}k] h_c = {hc:g}: {msh.name}; Hertz P = {P0:.6g} N", flush=True)
 
     def ccx_row():
-        row = cb.run_ccx_size(run_dir, info, cargs, hz)
-        row["command"] = ccx_shell_line(run_dir, "job", args.threads)
+        row = contact_ccx_row(run_dir, info, cargs, hz)
+        row["command"] = calculix.ccx_shell_line(run_dir, "job", args.threads)
         return row
 
     def measure(row):
         if row.get("P") is None:
             return ""
-        row["errors"] = [cb.rel(row["P"], P0), cb.rel((row.get("fit") or {}).get("p0"), p00)]
+        row["errors"] = [rel_error(row["P"], P0), rel_error((row.get("fit") or {}).get("p0"), p00)]
         row["compare"] = row["P"]
-        return f"P {cb.fmt_err(row, 'P', P0)}"
+        return f"P {fmt_err(row, 'P', P0)}"
 
-    return side_by_side(size, args, lambda key: cb.run_hencky_size(exe, run_dir, run_dir / msh.name, cargs, hz),
+    return side_by_side(size, args, lambda key, run: contact_hencky_row(exe, run_dir, run_dir / msh.name, cargs, hz, run=run),
                         ccx_row, measure)
 
 
@@ -634,21 +566,6 @@ def memory_sizes(args, problem: str) -> list[int]:
     return out
 
 
-def binary_info(exe: Path) -> dict:
-    """What identifies a binary of the memory part: path, version, build time and, when it sits
-    in a git checkout, that checkout's HEAD at the start and (as build_provenance) the last commit
-    changing src/, app/ or CMakeLists.txt before the build (uncommitted changes not seen)."""
-    built = binary_stamp(exe)
-    top = rb.sh(f"git -C {shlex.quote(str(exe.parent))} rev-parse --show-toplevel 2>/dev/null")
-
-    def git(cmd):
-        return (rb.sh(f"git -C {shlex.quote(top)} {cmd} 2>/dev/null") or None) if top else None
-
-    return dict(path=str(exe), version=rb.sh(f"{shlex.quote(str(exe))} --version"), built=built,
-                checkout=top or None, head=git("rev-parse --short HEAD"),
-                source=git(f"log -1 --format=%h --until={built} -- src app CMakeLists.txt"))
-
-
 def memory_run(exe: Path, binary: str, problem: str, target: int, run_dir: Path, case: Path, key: str, args) -> dict:
     """One run of the memory part: `exe` (binary "hencky" or "baseline") on `case` in configuration
     `key`, with its own output folder (out-memory[-baseline]-<key>) and log
@@ -663,8 +580,7 @@ def memory_run(exe: Path, binary: str, problem: str, target: int, run_dir: Path,
     if s and rec["status"] == "converged":
         probes = s.get("probes") or {}
         if problem == "elastic":
-            comp, sign = rb.PROBLEMS["cylinder"]["sign"]
-            rec["value"] = sign * probes["probe"]["displacement"]["xyz"[comp]]
+            rec["value"] = probe_value("cylinder", s)
         elif probes.get("outer"):
             rec["value"] = probes["outer"]["displacement"]["x"]
     if not args.keep_output:
@@ -680,29 +596,29 @@ def part_memory(exe, work, args) -> dict:
     baseline (see the module notes)."""
     binaries = [("hencky", exe)] + ([("baseline", args.baseline_hencky)] if args.baseline_hencky else [])
     pargs = plastic_args(args, "petsc")
-    variant = pb.variants(pargs)[0]
-    ring = pb.register_geometry(2, 0.02)
-    info = {b: binary_info(path) for b, path in binaries}  # before the runs: a rebuild meanwhile is noticed
+    variant = variants(pargs)[0]
+    ring = plastic_problem(2, 0.02)
+    info = {b: runner.binary_info(path) for b, path in binaries}  # before the runs: a rebuild meanwhile is noticed
     runs = []
     for problem in ("elastic", "plastic"):
         for target in memory_sizes(args, problem):
             if problem == "elastic":
-                msh, gmsh_seconds, h = rb.size_for("cylinder", target, work, args.threads)
-                run_dir = linked_run_dir(msh, work)
-                case = elastic_case("cylinder", run_dir, msh)
+                msh, gmsh_seconds, h = gmsh.size_for("cylinder", target, work, args.threads)
+                run_dir = gmsh.mesh_run_dir(msh, work, "parallel")
+                case = write_elastic_case("cylinder", run_dir, msh)
             else:
-                # run_plastic_bench's case file (as pb.run_hencky_case writes it), linear: petsc
-                msh, gmsh_seconds, h = rb.size_for(ring, target, work, args.threads)
-                run_dir = linked_run_dir(msh, work, "plastic")
+                # run_plastic_bench's case file (as runs.plastic_hencky_row writes it), linear: petsc
+                msh, gmsh_seconds, h = gmsh.size_for(ring, target, work, args.threads)
+                run_dir = gmsh.mesh_run_dir(msh, work, "plastic")
                 case = run_dir / f"case-{variant['name']}-newton.yaml"
-                case.write_text(pb.hencky_case(run_dir / msh.name, "newton", variant, pargs))
+                case.write_text(problems.plastic_case(run_dir / msh.name, "newton", variant, pargs))
             print(f"[memory {problem} ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
             for key in (f"{args.memory_solver}-1", f"{args.memory_solver}-2"):
                 for binary, path in binaries:
-                    quiet(args)
+                    runner.quiet(args)
                     runs.append(dict(memory_run(path, binary, problem, target, run_dir, case, key, args),
                                      h=h, msh=str(msh), gmsh_seconds=gmsh_seconds))
-    return dict(binaries=info, exact=rb.lame_bore_displacement(), solver=args.memory_solver,
+    return dict(binaries=info, exact=lame_bore_displacement(), solver=args.memory_solver,
                 petsc=args.memory_petsc,
                 plastic=dict(steps=pargs.steps, tolerance=pargs.tolerance, p_end=pargs.p_end, scheme="newton",
                              layers=2, linear=pargs.linear),
@@ -712,18 +628,6 @@ def part_memory(exe, work, args) -> dict:
 # ----------------------------------------------------------------------------------------------
 # Report
 # ----------------------------------------------------------------------------------------------
-def e(x, digits=2):
-    return "–" if x is None else f"{x:+.{digits}e}"
-
-
-def pct(x, digits=2):
-    return "–" if x is None else f"{100 * x:+.{digits}f} %"
-
-
-def ratio(a, b, digits=2):
-    return "–" if not a or not b else f"{a / b:.{digits}f}×"
-
-
 def delta(a, b, same_code=True):
     """Relative difference of two answers on the same mesh; between two hencky solvers it is
     marked when it exceeds what their tolerances allow (1e-6)."""
@@ -768,10 +672,6 @@ def others_cell(r):
     return "–" if r.get("others") is None else f"{r['others']:.2f}"
 
 
-def status_cell(r):
-    return r["status"] if r["status"] == "converged" else f"**{r['status']}**"
-
-
 def render_gamg(res: dict) -> str:
     g = res["parts"]["gamg"]
     rows = sorted(g["rows"], key=lambda r: (r.get("dofs") or r["target_dofs"], r["ranks"]))
@@ -797,7 +697,7 @@ def render_gamg(res: dict) -> str:
             + (f"{its:.1f}" if its is not None else "–")
             + f" | {fmt_s(p.get('factorization'))} | {fmt_s(p.get('solve'))} | {fmt_s(p.get('assembly'))} | "
             f"{fmt_s(p.get('total'))} | {fmt_s(r['wall'])} | {fmt_s(r['cpu'])} | {mib(r.get('peak_rank'))} | "
-            f"{mib(r.get('peak_sum'))} | {e(r.get('error'))} | "
+            f"{mib(r.get('peak_sum'))} | {sci(r.get('error'))} | "
             + (delta(r.get("value"), base.get("value")) if base else "–") + f" | {others_cell(r)} |")
     out.append("")
     conv = [r for r in rows if r["status"] == "converged" and r.get("iterations_per_solve")]
@@ -848,7 +748,7 @@ def render_scaling(res: dict) -> str:
             f" | {ratio(ref['wall'], r['wall']) if ref and ref['status'] == 'converged' else '–'} | {fmt_s(r['cpu'])} | "
             f"{mib(r.get('peak_rank'))} | {mib(r.get('peak_sum'))} | "
             + (f"{its:.1f}" if its is not None and r["config"].startswith("gamg") else "–")
-            + f" | {e(r.get('error'))} | {delta(r.get('value'), direct.get('value')) if direct and r is not direct else '–'}"
+            + f" | {sci(r.get('error'))} | {delta(r.get('value'), direct.get('value')) if direct and r is not direct else '–'}"
             f" | {others_cell(r)} |")
     out.append("")
     pairs = [("cholmod-1t", ref_key, f"CHOLMOD 1 → {res['threads']} threads"), ("gamg-1", "gamg-2", "GAMG 1 → 2 ranks"),
@@ -901,7 +801,7 @@ def render_largest(res: dict) -> str:
                    f"{fmt_s(p.get('total'))} | {fmt_s(p.get('factorization'))} | {fmt_s(p.get('solve'))} | "
                    + (f"{its:.1f}" if its else "–") + f" | {mib(a.get('peak_rank'))} | {mib(a.get('peak_sum'))} | "
                    + (f"{mib(est['memory_bytes'])} / {est['wall']:.0f}" if est else "–")
-                   + f" | {e(a.get('error'))} | {fmt_s(a.get('gmsh_seconds'))} | "
+                   + f" | {sci(a.get('error'))} | {fmt_s(a.get('gmsh_seconds'))} | "
                    f"{others_cell(a) if a.get('wall') else '–'} | {a.get('failure') or ''} |")
     out.append("")
     out.append(reproduce(res, "largest", [a for a in L["attempts"] if a.get("command")]))
@@ -947,7 +847,7 @@ def render_ccx_size(size: dict, res: dict) -> str:
             + f" | {r.get('iterations') if r.get('iterations') is not None else '–'} | "
             f"{r.get('factorizations') if r.get('factorizations') is not None else '–'} | "
             + (f"{its:.1f}" if its is not None and r["config"].startswith("gamg") else "–") + " | "
-            + " | ".join(pct(x, 3) if prob in ("plastic", "contact") else e(x) for x in errs) + " | "
+            + " | ".join(pct(x, 3) if prob in ("plastic", "contact") else sci(x) for x in errs) + " | "
             + (delta(r.get("compare"), cc.get("compare"), same_code=False) if cc and not is_ccx else "–") + " | "
             + (delta(r.get("compare"), direct.get("compare")) if direct and r is not direct and not is_ccx else "–")
             + f" | {others_cell(r)} |")
@@ -1048,7 +948,7 @@ def render_memory(res: dict) -> str:
         out += lines
         out.append("")
     out.append("Binaries: " + "; ".join(
-        f"{b} = `{i['path'].replace(str(ROOT) + '/', '')}` ({i['version']}, built {i['built']}"
+        f"{b} = `{report.in_repository(i['path'])}` ({i['version']}, built {i['built']}"
         + (f"; its checkout's HEAD at the start {i['head']}" if i.get("head") else "")
         + (f", last commit changing src/, app/ or CMakeLists.txt before the build {i['source']}" if i.get("source") else "")
         + ")" for b, i in bins.items()) + ".\n")
@@ -1064,13 +964,13 @@ def render_memory(res: dict) -> str:
 def render(res: dict) -> str:
     m = res["machine"]
     out = [f"## Parallel benchmark run {res['timestamp']} ({res['date']})\n", "### Machine and run\n",
-           rb.machine_markdown(m, res["blas"]),
+           report.machine_markdown(m, res["blas"]),
            f"- MPI and PETSc: {res['mpi']}; {res['petsc'].replace(chr(10), ', ')}",
-           f"- {res['hencky_version']}, `{res['hencky'].replace(str(ROOT) + '/', '')}` built "
+           f"- {res['hencky_version']}, `{report.in_repository(res['hencky'])}` built "
            f"{res.get('hencky_built', '?')}" + (f" from git {res['hencky_build']['source']} (the last commit changing "
                                                "src/, app/ or CMakeLists.txt before the build)" if res.get("hencky_build") else "")
            + f"; repository HEAD {res['git']} at the start; serial runs on {res['threads']} threads; {res['seconds'] / 60:.1f} min",
-           f"- command: `{res['command'].replace(str(ROOT) + '/', '')}`",
+           f"- command: `{report.in_repository(res['command'])}`",
            f"- load average (1 min) at the start: {res['load_start']:.2f}; other programs' CPU during each run "
            "is in the `others` columns (cores; above ~0.2 the time is disturbed)"]
     later = (res.get("hencky_build") or {}).get("later")
@@ -1131,7 +1031,7 @@ def main():
     ap.add_argument("--disturbed", type=float, default=0.25,
                     help="leave runs during which other programs used more than this many cores out of the medians")
     ap.add_argument("--blas-n", type=int, default=4000, help="matrix size of the dgemm rate in the machine description")
-    rb.add_common_arguments(ap)
+    runner.add_common_arguments(ap)
     args = ap.parse_args()
 
     if args.report:
@@ -1154,22 +1054,18 @@ def main():
         if not args.baseline_hencky.exists():
             raise SystemExit(f"--baseline-hencky: {args.baseline_hencky} not found")
         args.baseline_hencky = args.baseline_hencky.resolve()
-    exe, work, stamp = rb.prepare_run(args)
-    m = rb.machine_info()
-    print(f"machine: {m['cpu']}, {m['nproc']} cores, {m['memory_bytes'] / 2**30:.1f} GiB; hencky {exe}; "
-          f"load {os.getloadavg()[0]:.2f}", flush=True)
+    exe, work, stamp = runner.prepare_run(args)
+    m = runner.machine_info()
+    print(f"{runner.machine_line(m, exe)}; load {os.getloadavg()[0]:.2f}", flush=True)
     if args.wait_quiet > 0:
-        rb.wait_quiet(args.wait_quiet)
-    blas = dict(n=args.blas_n, gflops_all=rb.dgemm_rate(args.blas_n, None), gflops_1=rb.dgemm_rate(args.blas_n, 1))
-    dirty = rb.sh(f"git -C {ROOT} status --porcelain --untracked-files=no -- src app CMakeLists.txt")
-    dirty = ", ".join(line.split()[-1] for line in dirty.splitlines())
+        runner.wait_quiet(args.wait_quiet)
+    blas = dict(n=args.blas_n, gflops_all=runner.dgemm_rate(args.blas_n, None), gflops_1=runner.dgemm_rate(args.blas_n, 1))
     result = dict(
         timestamp=stamp, date=dt.datetime.now().astimezone().isoformat(timespec="seconds"), machine=m, blas=blas,
-        mpi=rb.sh("mpirun --version 2>&1 | head -1"),
-        petsc=rb.sh("dpkg-query -W -f='${Package} ${Version}\\n' 'libpetsc-real3.*-dev' 'libmumps-5*' 'libhypre-2*' 2>/dev/null"),
-        hencky=str(exe), hencky_version=rb.sh(f"{exe} --version"),
-        git=rb.sh(f"git -C {ROOT} rev-parse --short HEAD") + (f" + uncommitted changes in {dirty}" if dirty else ""),
-        hencky_built=binary_stamp(exe), hencky_build=build_provenance(exe),
+        mpi=runner.sh("mpirun --version 2>&1 | head -1"),
+        petsc=runner.sh("dpkg-query -W -f='${Package} ${Version}\\n' 'libpetsc-real3.*-dev' 'libmumps-5*' 'libhypre-2*' 2>/dev/null"),
+        **runner.program_facts(exe, list_files=True),
+        hencky_built=runner.binary_stamp(exe), hencky_build=runner.build_provenance(exe),
         command=" ".join([sys.executable] + [shlex.quote(a) for a in sys.argv]), argv=sys.argv[1:],
         threads=args.threads, hencky_env=args.hencky_env, load_start=os.getloadavg()[0],
         parameters={k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()
@@ -1193,22 +1089,20 @@ def main():
         else:
             result["parts"]["largest"] = part_largest(exe, work, args, result["parts"].get("gamg"))
         result["parts"][part]["seconds"] = time.perf_counter() - t0
-        if binary_stamp(exe) != result["hencky_built"]:
+        if runner.binary_stamp(exe) != result["hencky_built"]:
             result.setdefault("warnings", []).append(f"{exe} was rebuilt during the part {part} "
-                                                     f"({binary_stamp(exe)}): its figures may mix two builds")
+                                                     f"({runner.binary_stamp(exe)}): its figures may mix two builds")
         base = (result["parts"][part].get("binaries") or {}).get("baseline") if part == "memory" else None
-        if base and binary_stamp(Path(base["path"])) != base["built"]:
+        if base and runner.binary_stamp(Path(base["path"])) != base["built"]:
             result.setdefault("warnings", []).append(f"{base['path']} (--baseline-hencky) was rebuilt during the part "
-                                                     f"{part} ({binary_stamp(Path(base['path']))}): its figures may mix two builds")
+                                                     f"{part} ({runner.binary_stamp(Path(base['path']))}): its figures may mix two builds")
         result["seconds"] = time.perf_counter() - t_start
         # written after every part: a long run that is stopped keeps what it measured
-        jpath.write_text(json.dumps(result, indent=1))
-        mdpath.write_text(render(result))
+        report.write_results(jpath, mdpath, result, render(result))
         print(f"  ({part}: {result['parts'][part]['seconds'] / 60:.1f} min)", flush=True)
     md = render(result)
     mdpath.write_text(md)
-    print(f"\nwrote {jpath} and {mdpath}\n")
-    print(md)
+    report.print_written(jpath, mdpath, md)
 
 
 if __name__ == "__main__":

@@ -44,383 +44,35 @@ displacement of the outer radius u(b) at 0.9 p_L against
 Results: bench/results/plastic-<timestamp>.json and .md (one table per size; both rewritten
 after every size). Meshes and runs go to bench/work/ (meshes reused). A run that exceeds
 --timeout (default 1800 s) is killed and recorded as a timeout, with the load it had reached.
-Uses bench/run_bench.py's mesh, conversion and run functions. Standard library + numpy only.
+The problem, the runs and the conversion for ccx are in the henckybench package
+(bench/henckybench/: problems, runs, calculix, gmsh). Standard library + numpy only.
 """
 from __future__ import annotations
 
 import argparse
 import json
-import math
-import os
-import re
 import shutil
 import sys
 import time
 from pathlib import Path
 
-import numpy as np
+from henckybench import calculix, gmsh, report, runner
+from henckybench.problems import A_IN, B_OUT, E, NU, SY, limit_pressure, plastic_problem
+from henckybench.report import fmt_s, mib, pct
+from henckybench.runs import plastic_ccx_row, plastic_hencky_row, references, rel_error, variants
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import run_bench as rb  # noqa: E402
-
-ROOT, BENCH = rb.ROOT, rb.BENCH
-
-# ----------------------------------------------------------------------------------------------
-# Problem
-# ----------------------------------------------------------------------------------------------
-E, NU = rb.E, rb.NU
-SY = 240e6  # yield stress, Pa
-A_IN, B_OUT = rb.CYL["a"], rb.CYL["b"]
 SCHEMES = ["newton", "variable-stiffness", "initial-strain", "initial-strain-stiffness",
            "initial-stress", "initial-stress-stiffness"]
 # A scheme name with "+anderson" runs that scheme with `solver.acceleration: anderson`.
 ACCELERATED = ["initial-stress+anderson", "initial-stress-stiffness+anderson"]
 
 
-def limit_pressure(sy: float = SY, a: float = A_IN, b: float = B_OUT) -> float:
-    return 2 * sy / math.sqrt(3) * math.log(b / a)
-
-
-class Hill:
-    """Elastic-perfectly-plastic thick cylinder, plane strain, with the plastic front at r = c
-    (tests/unit/test_verify_plastic.cpp, class Hill): with k = sigma_y/sqrt(3)
-    p(c) = k (1 - c^2/b^2 + 2 ln(c/a)), p_L = 2k ln(b/a), u(b) = 2(1 - nu^2) k c^2 / (E b)."""
-
-    def __init__(self, a=A_IN, b=B_OUT, E=E, nu=NU, sy=SY):
-        self.a, self.b, self.E, self.nu, self.sy = a, b, E, nu, sy
-        self.k = sy / math.sqrt(3)
-
-    def p_of_c(self, c):
-        return self.k * (1 - c * c / self.b**2 + 2 * math.log(c / self.a))
-
-    def c_of_p(self, p):
-        lo, hi = self.a, self.b
-        for _ in range(200):
-            m = 0.5 * (lo + hi)
-            if self.p_of_c(m) < p:
-                lo = m
-            else:
-                hi = m
-        return 0.5 * (lo + hi)
-
-    def u_outer(self, p):
-        a, b, nu, E = self.a, self.b, self.nu, self.E
-        if p <= self.p_of_c(a):  # elastic (Lamé)
-            return p * a * a * 2 * (1 - nu * nu) / (E * (b * b - a * a)) * b
-        c = self.c_of_p(p)
-        return 2 * (1 - nu * nu) * self.k * c * c / (E * b)
-
-
-def radial_reference(p_end: float, steps: int, hardening: float = 0.0, n_el: int = 200,
-                     a=A_IN, b=B_OUT, E=E, nu=NU, sy=SY, tol=1e-10) -> list[tuple[float, float]]:
-    """The cylinder along the radius: u = u(r), strains (du/dr, u/r, 0) (plane strain), von Mises
-    with linear isotropic hardening `hardening` (0: perfect), the pressure ramped to p_end in
-    `steps` equal increments; n_el quadratic elements (3 Gauss points, weight r dr), radial
-    return and Newton with the consistent tangent. Returns (u(a), u(b)) after each increment."""
-    H = hardening
-    G = E / (2 * (1 + nu))
-    K = E / (3 * (1 - 2 * nu))
-    D = (K - 2 * G / 3) * np.ones((3, 3)) + 2 * G * np.eye(3)
-    one = np.ones(3)
-    Idev = np.eye(3) - np.outer(one, one) / 3
-    r_nodes = np.linspace(a, b, 2 * n_el + 1)
-    n = len(r_nodes)
-    gx, gw = np.polynomial.legendre.leggauss(3)
-    conn = np.array([[2 * e, 2 * e + 1, 2 * e + 2] for e in range(n_el)])
-    N = np.stack([gx * (gx - 1) / 2, 1 - gx**2, gx * (gx + 1) / 2], axis=1)  # (point, node)
-    dN = np.stack([gx - 0.5, -2 * gx, gx + 0.5], axis=1)
-    xe = r_nodes[conn]
-    r_gp = xe @ N.T
-    J = xe @ dN.T
-    w = gw[None, :] * J * r_gp
-    B = np.zeros((n_el, 3, 3, 3))  # (element, point, strain component r/theta/z, node)
-    B[:, :, 0, :] = dN[None, :, :] / J[:, :, None]
-    B[:, :, 1, :] = N[None, :, :] / r_gp[:, :, None]
-    ep = np.zeros((n_el, 3, 3))
-    alpha = np.zeros((n_el, 3))
-    u = np.zeros(n)
-    history = []
-
-    def material(eps):
-        s_tr = (eps - ep) @ D.T
-        dev = s_tr - s_tr.mean(axis=2, keepdims=True)
-        nrm = np.sqrt((dev**2).sum(axis=2))
-        q = math.sqrt(1.5) * nrm
-        f = q - (sy + H * alpha)
-        C = np.broadcast_to(D, eps.shape[:2] + (3, 3)).copy()
-        sig, ep_new, al_new = s_tr.copy(), ep.copy(), alpha.copy()
-        pl = f > 0
-        if pl.any():
-            dg = f[pl] / (3 * G + H)
-            nh = dev[pl] / nrm[pl][:, None]
-            sig[pl] = s_tr[pl] - 2 * G * math.sqrt(1.5) * dg[:, None] * nh
-            ep_new[pl] = ep[pl] + math.sqrt(1.5) * dg[:, None] * nh
-            al_new[pl] = alpha[pl] + dg
-            C[pl] = (K * np.outer(one, one)[None]
-                     + (2 * G * (1 - 3 * G * dg / q[pl]))[:, None, None] * Idev[None]
-                     + (6 * G * G * (dg / q[pl] - 1 / (3 * G + H)))[:, None, None]
-                     * np.einsum("pi,pj->pij", nh, nh))
-        return sig, ep_new, al_new, C
-
-    for k in range(1, steps + 1):
-        f_ext = np.zeros(n)
-        f_ext[0] = p_end * k / steps * a
-        for it in range(100):
-            eps = np.einsum("egcn,en->egc", B, u[conn])
-            sig, ep_new, al_new, C = material(eps)
-            fint = np.zeros(n)
-            np.add.at(fint, conn, np.einsum("egcn,egc,eg->en", B, sig, w))
-            res = f_ext - fint
-            if it > 0 and np.linalg.norm(res) <= tol * np.linalg.norm(f_ext):
-                break
-            Ke = np.einsum("egci,egcd,egdj,eg->eij", B, C, B, w)
-            Kg = np.zeros((n, n))
-            np.add.at(Kg, (conn[:, :, None], conn[:, None, :]), Ke)
-            u = u + np.linalg.solve(Kg, res)
-        else:
-            raise RuntimeError("1D reference: Newton did not converge")
-        ep, alpha = ep_new, al_new
-        history.append((float(u[0]), float(u[-1])))
-    return history
-
-
-def geo_slice(h: float, layers: int) -> str:
-    """The quarter ring a < r < b meshed in its plane (triangles of size h) and extruded in z by
-    `layers` layers of thickness h: a slice layers*h thick whose tetrahedra have about the same
-    size in every direction. Refining keeps the slice `layers` elements thick, so the unknowns
-    grow as h^-2 and the factorization's fill as that of a 2D mesh. run_bench's cylinder
-    geometry and physical groups."""
-    return rb.geo_cylinder(h, dict(rb.CYL, Lz=layers * h), layers)
-
-
-def register_geometry(layers: int, thickness: float) -> str:
-    """The plane-strain slice as a problem of run_bench (its mesh-size fitting and mesh cache):
-    `layers` > 0: a structured slice `layers` elements thick (geo_slice); otherwise an
-    unstructured slice of fixed axial length `thickness` (run_bench's cylinder geometry), whose
-    fill grows as that of a 3D mesh."""
-    if layers > 0:
-        name = f"ring-l{layers}"
-        rb.PROBLEMS[name] = dict(geo=lambda h: geo_slice(h, layers), h_calib=0.009)
-    else:
-        name = f"ring-t{thickness:g}"
-        c = dict(rb.CYL, Lz=thickness)
-        rb.PROBLEMS[name] = dict(geo=lambda h: rb.geo_cylinder(h, c), h_calib=0.4 * thickness)
-    return name
-
-
-# ----------------------------------------------------------------------------------------------
-# Inputs
-# ----------------------------------------------------------------------------------------------
-def material_yaml(variant: dict) -> str:
-    if variant["hardening"] == 0:
-        return f"{{perfect: {{yield: {SY!r}}}}}"
-    return f"{{linear: {{yield: {SY!r}, hardening: {variant['hardening']!r}}}}}"
-
-
-def hencky_case(msh: Path, scheme: str, variant: dict, args) -> str:
-    scheme, _, accel = scheme.partition("+")
-    solver = [f"scheme: {scheme}", f"steps: {args.steps}", "end: 1.0",
-              f"tolerance: {args.tolerance!r}", f"max_iterations: {args.max_iterations}",
-              f"cutback: {args.cutback}", f"linear: {args.linear}"]
-    if scheme == "initial-strain":
-        solver.append(f"relaxation: {args.relaxation!r}")
-    elif scheme == "initial-strain-stiffness":
-        solver.append(f"relaxation: {args.relaxation_stiffness!r}")
-    if accel:
-        solver.append(f"acceleration: {accel}")
-    return f"""title: plastic bench {scheme}{'+' + accel if accel else ''} {variant['name']} {msh.stem}
-mesh: {{file: {msh.name}}}
-materials:
-  - name: steel
-    E: {E!r}
-    nu: {NU!r}
-    plasticity: {material_yaml(variant)}
-{rb.cylinder_boundary_yaml(f'"{args.p_end!r}*t"')}solver: {{{', '.join(solver)}}}
-output:
-  every: {args.steps}
-  probes:
-    - name: outer
-      point: [{B_OUT!r}, 0.0, 0.0]
-    - name: bore
-      point: [{A_IN!r}, 0.0, 0.0]
-"""
-
-
-def write_ccx_plastic_inp(mesh: dict, inp: Path, variant: dict, args) -> dict:
-    """The cylinder for ccx: C3D10, *ELASTIC + *PLASTIC (isotropic hardening table: stress,
-    plastic strain), one *STATIC step with args.steps fixed increments (DIRECT), the bore
-    pressure ramped (the default amplitude of a static step) on the element faces; the outer
-    and bore probe nodes printed to the .dat every increment, U and S to the .frd at the end."""
-    coords, tets = mesh["coords"], mesh["tets"]
-    tets_ccx, order_error = rb.ccx_tets(mesh)
-    outer, d_outer = rb.nearest_node(mesh, (B_OUT, 0.0, 0.0))
-    bore, d_bore = rb.nearest_node(mesh, (A_IN, 0.0, 0.0))
-    out = [f"*HEADING\nhencky plastic benchmark: {len(tets)} C3D10, {len(mesh['node_tags'])} nodes, "
-           f"{variant['name']}\n"]
-    out += rb.ccx_mesh_cards(mesh, tets_ccx)
-    out.append(rb.ccx_nset("PROBES", [outer, bore]))
-    surf = mesh["surfaces"]
-    for name in ("sym_x", "sym_y", "bottom", "top"):
-        out.append(rb.ccx_nset(name.upper(), surf[name]))
-    H = variant["hardening"]
-    table = f"{SY:.17g},0.\n" if H == 0 else f"{SY:.17g},0.\n{SY + H:.17g},1.\n"
-    out.append(f"*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.17g},{NU:.17g}\n*PLASTIC\n{table}")
-    out.append("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n")
-    inc = 1.0 / args.steps
-    out.append(f"*STEP, INC={10 * args.steps}\n*STATIC, DIRECT\n{inc:.17g},1.\n")
-    out.append("*BOUNDARY\nSYM_X,1,1\nSYM_Y,2,2\nBOTTOM,3,3\nTOP,3,3\n")
-    out.append(rb.ccx_face_pressure(coords, tets_ccx, surf["bore"], args.p_end))
-    out.append(f"*NODE PRINT, NSET=PROBES\nU\n*NODE FILE, FREQUENCY={args.steps}\nU\n"
-               f"*EL FILE, FREQUENCY={args.steps}\nS, PEEQ\n*END STEP\n")
-    inp.write_text("".join(out))
-    return dict(outer_node=outer, outer_offset=d_outer, bore_node=bore, bore_offset=d_bore,
-                tet10_midnode_check=order_error)
-
-
-# ----------------------------------------------------------------------------------------------
-# Results of the runs
-# ----------------------------------------------------------------------------------------------
-def ccx_dat_displacements(dat: Path) -> dict[float, dict[int, list[float]]]:
-    """{time: {node: [ux, uy, uz]}} of every displacement block in a ccx .dat file."""
-    blocks = {}
-    cur = None
-    if not dat.exists():
-        return blocks
-    for line in dat.read_text().splitlines():
-        m = re.match(r"\s*displacements .* time\s+([-+0-9.Ee]+)", line)
-        if m:
-            cur = blocks.setdefault(float(m.group(1)), {})
-            continue
-        v = line.split()
-        if cur is not None and len(v) == 4:
-            try:
-                cur[int(v[0])] = [float(x) for x in v[1:]]
-            except ValueError:
-                cur = None
-        elif v and cur is not None and cur:
-            cur = None
-    return blocks
-
-
-def ccx_counts(text: str, job_dir: Path, job: str) -> dict:
-    """Newton iterations and factorizations of a ccx run, from its output: one "iteration N"
-    line per iteration (attempts that were cut back included), one "Factoring the system of
-    equations" line per factorization; the increments from the .sta file."""
-    iterations = len(re.findall(r"^\s*iteration\s+\d+", text, flags=re.M))
-    factorizations = len(re.findall(r"Factoring the system of equations", text))
-    increments, total_time = 0, None
-    sta = job_dir / f"{job}.sta"
-    if sta.exists():
-        for line in sta.read_text().splitlines():
-            v = line.split()
-            if len(v) >= 7 and v[0].isdigit() and v[1].isdigit():
-                increments += 1
-                total_time = float(v[4])
-    return dict(iterations=iterations, factorizations=factorizations, increments=increments,
-                total_time=total_time)
-
-
-def history_rows(history_csv: Path) -> list[list[str]]:
-    """The rows (one per converged step: step, time, iterations, ...) of a hencky history.csv."""
-    if not history_csv.exists():
-        return []
-    return [l.split(",") for l in history_csv.read_text().splitlines()[1:] if l.strip()]
-
-
-def reached_time(history_csv: Path) -> float | None:
-    """Time of the last converged step in a hencky history.csv (None without one)."""
-    rows = history_rows(history_csv)
-    return float(rows[-1][1]) if rows else None
-
-
-def errors(value: float | None, exact: float | None):
-    if value is None or not exact:
-        return None
-    return (value - exact) / exact
-
-
-def run_hencky_case(exe, run_dir: Path, msh: Path, scheme: str, variant: dict, args) -> dict:
-    case = run_dir / f"case-{variant['name']}-{scheme}.yaml"
-    case.write_text(hencky_case(msh, scheme, variant, args))
-    out = run_dir / f"hencky-{variant['name']}-{scheme}.out"
-    for old in run_dir.glob(out.name + ".partial-*"):
-        shutil.rmtree(old, ignore_errors=True)
-    r = rb.run_hencky(exe, case, out, args.threads, args.hencky_environ, timeout=args.timeout, check=False)
-    s = r["summary"]
-    row = dict(program="hencky", scheme=scheme, material=variant["name"], wall=r["wall"],
-               peak_rss=r["peak_rss"], cpu=r["cpu"], others=r["others"], rc=r["rc"], log=r["log"])
-    if s is not None:
-        row.update(status=s["status"], failure=s.get("failure"), iterations=s["iterations"],
-                   factorizations=s["factorizations"], steps=s["steps"], dofs=s["dofs"],
-                   nodes=s["nodes"], elements=s["elements"],
-                   phases=s["wall_seconds"], linear_solver=s["linear_solver"],
-                   reached=reached_time(out / "history.csv"))
-        pr = s.get("probes") or {}
-        if pr.get("outer"):
-            row["u_outer"] = pr["outer"]["displacement"]["x"]
-            row["u_bore"] = pr["bore"]["displacement"]["x"]
-    else:
-        # killed (time limit) or crashed: what the steps converged so far wrote to the
-        # unfinished output folder (iterations of those steps only)
-        partial = sorted(run_dir.glob(out.name + ".partial-*"))
-        rows = history_rows(partial[-1] / "history.csv") if partial else []
-        row.update(status="timeout" if r["timed_out"] else "error",
-                   reached=float(rows[-1][1]) if rows else None,
-                   iterations=sum(int(x[2]) for x in rows) if rows else None,
-                   failure=(f"killed after the time limit of {args.timeout:g} s" if r["timed_out"]
-                            else f"exit status {r['rc']} without summary.json, see {r['log']}"))
-    if row["status"] == "converged" and row.get("reached") is not None and abs(row["reached"] - 1.0) > 1e-9:
-        row["status"] = "not-converged"
-    if not args.keep_output:
-        shutil.rmtree(out, ignore_errors=True)
-        for old in run_dir.glob(out.name + ".partial-*"):
-            shutil.rmtree(old, ignore_errors=True)
-    return row
-
-
-def run_ccx_case(run_dir: Path, job: str, info: dict, variant: dict, args) -> dict:
-    """ccx on the input `job`.inp written by write_ccx_plastic_inp (which returned `info`)."""
-    c = rb.run_ccx(run_dir, job, args.threads, timeout=args.ccx_timeout, check=False)
-    counts = ccx_counts(c["text"], run_dir, job)
-    blocks = ccx_dat_displacements(run_dir / f"{job}.dat")
-    last_t = max(blocks) if blocks else None
-    row = dict(program="ccx", scheme="ccx", material=variant["name"], wall=c["wall"],
-               peak_rss=c["peak_rss"], cpu=c["cpu"], others=c["others"], rc=c["rc"], log=c["log"],
-               iterations=counts["iterations"], factorizations=counts["factorizations"],
-               increments=counts["increments"], reached=counts["total_time"], inp=info,
-               reported_seconds=c.get("ccx_reported_seconds"), phases=None)
-    if c["ok"] and last_t is not None and abs(last_t - 1.0) < 1e-6:
-        row["status"] = "converged"
-    elif c["timed_out"]:
-        row.update(status="timeout", failure=f"killed after the time limit of {args.ccx_timeout:g} s")
-    else:
-        row.update(status="not-converged" if c.get("errors") else "error",
-                   failure="; ".join(c.get("errors") or []) or f"exit status {c['rc']}, see {c['log']}")
-    if last_t is not None:
-        u = blocks[last_t]
-        if info["outer_node"] in u:
-            row["u_outer"] = u[info["outer_node"]][0]
-        if info["bore_node"] in u:
-            row["u_bore"] = u[info["bore_node"]][0]
-    if not args.keep_output:
-        (run_dir / f"{job}.frd").unlink(missing_ok=True)
-    return row
-
-
 # ----------------------------------------------------------------------------------------------
 # Benchmark
 # ----------------------------------------------------------------------------------------------
-def variants(args) -> list[dict]:
-    vs = [dict(name="perfect", hardening=0.0, schemes=args.schemes, ccx=not args.no_ccx)]
-    if args.hardening > 0 and args.hardening_schemes:
-        vs.append(dict(name="hardening", hardening=args.hardening, schemes=args.hardening_schemes,
-                       ccx=not args.no_ccx))
-    return vs
-
-
 def bench_size(problem: str, target: int, args, work: Path, exe: Path, refs: dict) -> dict:
-    msh, gmsh_seconds, h = rb.size_for(problem, target, work, args.threads)
-    run_dir, mesh = rb.size_run_dir(msh, work, "plastic")
+    msh, gmsh_seconds, h = gmsh.size_for(problem, target, work, args.threads)
+    run_dir, mesh = gmsh.size_run_dir(msh, work, "plastic")
     n_nodes, n_elems = int(len(mesh["node_tags"])), int(len(mesh["tets"]))
     size = dict(target_dofs=target, h=h, msh=str(msh), gmsh_seconds=gmsh_seconds, nodes=n_nodes,
                 elements=n_elems, runs=[])
@@ -428,23 +80,20 @@ def bench_size(problem: str, target: int, args, work: Path, exe: Path, refs: dic
     for v in variants(args):
         if v["ccx"]:
             job = f"ccx-{v['name']}"
-            ccx_inputs[v["name"]] = (job, write_ccx_plastic_inp(mesh, run_dir / f"{job}.inp", v, args))
+            ccx_inputs[v["name"]] = (job, calculix.write_plastic_inp(mesh, run_dir / f"{job}.inp", v, args))
     del mesh
     print(f"[~{target / 1000:.0f}k unknowns] h = {h:g}: {msh.name}, {n_nodes} nodes, {n_elems} tetrahedra", flush=True)
     for v in variants(args):
         ref = refs[v["name"]]
         programs = (["ccx"] if v["ccx"] else []) + list(v["schemes"])
         for prog in programs:
-            if args.wait_quiet > 0:
-                q = rb.wait_quiet(args.wait_quiet)
-                if q["waited"] > 1.5:
-                    print(f"    (waited {q['waited']:.0f} s for other programs; background now {q['background']:.2f} cores)", flush=True)
+            runner.quiet(args)
             if prog == "ccx":
-                row = run_ccx_case(run_dir, *ccx_inputs[v["name"]], v, args)
+                row = plastic_ccx_row(run_dir, *ccx_inputs[v["name"]], v, args)
             else:
-                row = run_hencky_case(exe, run_dir, run_dir / msh.name, prog, v, args)
-            row["error_hill"] = errors(row.get("u_outer"), ref["hill"])
-            row["error_ref"] = errors(row.get("u_outer"), ref["u_outer"])
+                row = plastic_hencky_row(exe, run_dir, run_dir / msh.name, prog, v, args)
+            row["error_hill"] = rel_error(row.get("u_outer"), ref["hill"])
+            row["error_ref"] = rel_error(row.get("u_outer"), ref["u_outer"])
             if row.get("dofs"):
                 size["dofs"] = row["dofs"]
             size["runs"].append(row)
@@ -461,35 +110,9 @@ def bench_size(problem: str, target: int, args, work: Path, exe: Path, refs: dic
     return size
 
 
-def references(args) -> dict:
-    """u(b) and u(a) at the end of the ramp: Hill (perfect plasticity only) and the 1D solution
-    (same increments), for each material variant."""
-    out = {}
-    hill = Hill()
-    for v in variants(args):
-        t0 = time.perf_counter()
-        hist = radial_reference(args.p_end, args.steps, v["hardening"], n_el=args.ref_elements)
-        coarse = radial_reference(args.p_end, args.steps, v["hardening"], n_el=args.ref_elements // 2)
-        out[v["name"]] = dict(
-            hardening=v["hardening"],
-            hill=hill.u_outer(args.p_end) if v["hardening"] == 0 else None,
-            hill_front=hill.c_of_p(args.p_end) if v["hardening"] == 0 else None,
-            u_outer=hist[-1][1], u_bore=hist[-1][0],
-            u_outer_half_mesh=coarse[-1][1],
-            elements=args.ref_elements, seconds=time.perf_counter() - t0)
-    return out
-
-
 # ----------------------------------------------------------------------------------------------
 # Report
 # ----------------------------------------------------------------------------------------------
-fmt_s, mib = rb.fmt_s, rb.mib
-
-
-def pct(x, digits=2):
-    return "–" if x is None else f"{100 * x:+.{digits}f} %"
-
-
 def status_text(r: dict) -> str:
     s = r["status"]
     if s == "converged":
@@ -545,7 +168,7 @@ def render(res: dict) -> str:
     out.append(f"- machine: {m['cpu']}, {m['nproc']} cores, {m['memory_bytes'] / 2**30:.1f} GiB; "
                f"{m['os']}; CalculiX {m['ccx']}; Gmsh {m['gmsh']}")
     out.append(f"- hencky {res['hencky_version']} (git {res['git']}), `{res['hencky']}`, {res['threads']} threads; "
-               f"{res['seconds'] / 60:.1f} min; `{res['command'].replace(str(ROOT) + '/', '')}`")
+               f"{res['seconds'] / 60:.1f} min; `{report.in_repository(res['command'])}`")
     out.append("")
     out.append(
         f"**Problem.** Thick cylinder a = {A_IN} m < r < b = {B_OUT} m, plane strain: a slice of a quarter "
@@ -623,7 +246,7 @@ def main():
     ap.add_argument("--timeout", type=float, default=1800, help="time limit of one hencky run, s (default 1800); 0: none")
     ap.add_argument("--ccx-timeout", type=float, default=None, help="time limit of one ccx run, s (default: --timeout)")
     ap.add_argument("--ref-elements", type=int, default=200, help="quadratic elements of the 1D reference (default 200)")
-    rb.add_common_arguments(ap)
+    runner.add_common_arguments(ap)
     args = ap.parse_args()
 
     if args.report:
@@ -646,24 +269,22 @@ def main():
     if args.timeout and not shutil.which("timeout"):
         raise SystemExit("coreutils' timeout not found")
 
-    exe, work, stamp = rb.prepare_run(args)
-    problem = register_geometry(args.layers, args.thickness)
+    exe, work, stamp = runner.prepare_run(args)
+    problem = plastic_problem(args.layers, args.thickness)
 
-    m = rb.machine_info()
-    print(f"machine: {m['cpu']}, {m['nproc']} cores, {m['memory_bytes'] / 2**30:.1f} GiB; hencky {exe}", flush=True)
+    m = runner.machine_info()
+    print(runner.machine_line(m, exe), flush=True)
     refs = references(args)
     rp = refs["perfect"]
     print(f"p_L = {args.p_limit:.6g} Pa, ramp to {args.p_end:.6g} Pa in {args.steps} increments; u(b): Hill "
           f"{rp['hill']:.6e} m, 1D reference {rp['u_outer']:.6e} m"
           + (f", with hardening {refs['hardening']['u_outer']:.6e} m" if "hardening" in refs else ""), flush=True)
 
-    sizes = [int(float(x)) for x in args.sizes.split(",") if x]
+    sizes = runner.parse_sizes(args.sizes)
     sizes = [x for x in sizes if x <= args.max_dofs]
     t_start = time.perf_counter()
-    dirty = rb.sh(f"git -C {ROOT} status --porcelain --untracked-files=no -- src app CMakeLists.txt")
     result = dict(
-        timestamp=stamp, machine=m, hencky=str(exe), hencky_version=rb.sh(f"{exe} --version"),
-        git=rb.sh(f"git -C {ROOT} rev-parse --short HEAD") + (" + uncommitted changes in src/" if dirty else ""),
+        timestamp=stamp, machine=m, **runner.program_facts(exe),
         command=" ".join([sys.executable] + sys.argv), threads=args.threads, hencky_env=args.hencky_env,
         parameters=dict(E=E, nu=NU, yield_stress=SY, a=A_IN, b=B_OUT, layers=args.layers,
                         thickness=None if args.layers > 0 else args.thickness,
@@ -681,14 +302,11 @@ def main():
         result["sizes"].append(bench_size(problem, target, args, work, exe, refs))
         result["seconds"] = time.perf_counter() - t_start
         # written after every size: a long run that is stopped keeps what it measured
-        jpath.write_text(json.dumps(result, indent=1))
-        mdpath.write_text(render(result))
+        report.write_results(jpath, mdpath, result, render(result))
     result["seconds"] = time.perf_counter() - t_start
-    jpath.write_text(json.dumps(result, indent=1))
     md = render(result)
-    mdpath.write_text(md)
-    print(f"\nwrote {jpath} and {mdpath}\n")
-    print(md)
+    report.write_results(jpath, mdpath, result, md)
+    report.print_written(jpath, mdpath, md)
 
 
 if __name__ == "__main__":
