@@ -6,6 +6,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -68,6 +69,13 @@ int together(F&& f) {
   return worst;
 }
 
+/// The output directory given with -o: absolute, without a trailing separator ("out/" is
+/// "out").
+fs::path command_line_dir(const std::string& out_dir) {
+  fs::path p = fs::absolute(out_dir).lexically_normal();
+  return p.has_filename() ? p : p.parent_path();
+}
+
 /// Peak resident memory of this process and, in a parallel run, the largest and the total
 /// over the ranks (collective).
 void add_memory(nlohmann::json& summary) {
@@ -77,13 +85,25 @@ void add_memory(nlohmann::json& summary) {
 }
 
 int run(const std::string& case_path, const std::string& out_dir, bool quiet,
-        const std::string& petsc_options) {
+        const std::string& petsc_options, const std::string& threads_warning) {
   const auto t_start = Clock::now();
   Log log;
   log.quiet = quiet;
   log.silent = !par::root();
+  if (!threads_warning.empty()) log.warn(threads_warning);
   LoadedCase l;
-  if (int code = together([&] { l = load_case(case_path, log); })) return code;
+  fs::path dir;  // the output directory, from -o or output.dir
+  SourceLocation dir_where;
+  if (int code = together([&] {
+        auto spec = std::make_unique<Case>(read_case(case_path));
+        dir = out_dir.empty() ? spec->output.dir : command_line_dir(out_dir);
+        dir_where = out_dir.empty() ? spec->output.dir_where : SourceLocation{"", 0, 0, "-o"};
+        // Before the mesh (Gmsh may mesh for minutes) and the analysis: root writes the
+        // outputs, and can.
+        if (par::root()) check_output_dir(dir, dir_where);
+        l = load_case(std::move(spec), log);
+      }))
+    return code;
   // Every rank read its own copy of the case: they must all have read the same.
   const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
                               l.model->dofs().n_free};
@@ -96,7 +116,6 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     }
   const Model& model = *l.model;
   const Case& c = *l.spec;
-  const fs::path dir = out_dir.empty() ? c.output.dir : fs::absolute(out_dir);
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
@@ -107,7 +126,10 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   // Root writes every output (the other ranks' shares of the recovered fields are summed to
   // it).
   std::unique_ptr<ResultWriter> writer;
-  if (par::root()) writer = std::make_unique<ResultWriter>(model, dir, log);
+  if (int code = together([&] {
+        if (par::root()) writer = std::make_unique<ResultWriter>(model, dir, log, dir_where);
+      }))
+    return code;
   struct : StepObserver {
     void step_done(const StepReport&, const State&, const RecoveredFields&) override {}
   } nothing;  // the other ranks' observer
@@ -187,8 +209,11 @@ int main(int argc, char** argv) {
   int threads = 0;
   auto* run_cmd = app.add_subcommand("run", "run the analysis of a case file");
   run_cmd->add_option("case", case_path, "case file (YAML)")->required();
-  run_cmd->add_option("-o,--output", out_dir, "output directory (default: output.dir of the case)");
-  run_cmd->add_option("--threads", threads, "threads for assembly (default: all cores)");
+  auto* out_opt = run_cmd->add_option("-o,--output", out_dir,
+                                      "output directory (default: output.dir of the case)");
+  auto* threads_opt = run_cmd->add_option(
+      "--threads", threads,
+      "threads for assembly (default: all cores; at most the hardware threads)");
   run_cmd->add_flag("--quiet", quiet, "no progress lines on the terminal");
   // PETSc options go in one argument: PETSc's own option names (-o..., -h...) would otherwise
   // be read as hencky's short options.
@@ -205,7 +230,35 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 1;
   }
-  if (threads > 0) omp_set_num_threads(threads);
+  if (out_opt->count() > 0 && out_dir.empty()) {
+    std::cerr << "error: '-o': expected an output directory, found an empty path\n";
+    return 1;
+  }
+  // Before any OpenMP region: more threads than the hardware runs only cost (and a huge count
+  // exhausts the process's threads inside the first parallel loop).
+  std::string threads_warning;
+  if (threads_opt->count() > 0) {
+    if (threads < 1) {
+      std::cerr << fmt::format("error: '--threads': expected a number of threads >= 1, found {}\n",
+                               threads);
+      return 1;
+    }
+    const int hardware = omp_get_num_procs();
+    if (threads > hardware) {
+      threads_warning =
+          fmt::format("--threads {} is more than the {} hardware threads of this machine: using {}",
+                      threads, hardware, hardware);
+      threads = hardware;
+    }
+    omp_set_num_threads(threads);
+  } else if (const int hardware = omp_get_num_procs();
+             std::getenv("OMP_NUM_THREADS") && omp_get_max_threads() > hardware) {
+    // OMP_NUM_THREADS asks for more: the same clamp (it holds for `check` too, which meshes).
+    threads_warning = fmt::format(
+        "OMP_NUM_THREADS={} is more than the {} hardware threads of this machine: using {}",
+        omp_get_max_threads(), hardware, hardware);
+    omp_set_num_threads(hardware);
+  }
   std::string petsc_options;
   for (const auto& a : petsc_args) petsc_options += (petsc_options.empty() ? "" : " ") + a;
   // Under mpirun every rank starts MPI and PETSc here; a serial run starts them only if its
@@ -213,7 +266,8 @@ int main(int argc, char** argv) {
   if (par::launched_by_mpirun()) par::start(&argc, &argv);
   int status = 0;
   try {
-    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options) : check(case_path);
+    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options, threads_warning)
+                               : check(case_path);
   } catch (const InputError& e) {
     // Errors of the analysis reach every rank alike (its decisions are collective).
     if (par::root()) std::cerr << "error: " << e.what() << "\n";

@@ -7,13 +7,15 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "io/suggest.hpp"
-#include "parallel/mpi.hpp"
+#include "material/elastic.hpp"
 #include "material/hardening.hpp"
+#include "parallel/mpi.hpp"
 
 namespace hencky {
 
@@ -277,6 +279,18 @@ class Reader {
     return x;
   }
 
+  /// A number of a material's data (E, nu, alpha, a table's values, a curve's points):
+  /// finite, and not subnormal (0 < |x| < DBL_MIN, e.g. 1e-310), which the stiffness and
+  /// stress arithmetic cannot carry: it has lost precision already and its products vanish.
+  double material_number(const Val& v) const {
+    const double x = number(v);
+    if (x != 0 && std::abs(x) < std::numeric_limits<double>::min())
+      fail(v, "expected 0 or a number of magnitude >= " + num(std::numeric_limits<double>::min()) +
+                  ", found " + describe(v.node) +
+                  " (a subnormal number, too small for the stiffness and stress arithmetic)");
+    return x;
+  }
+
   std::string string(const Val& v, const char* what = "a name") const {
     if (!v.node.IsScalar())
       fail(v, std::string("expected ") + what + ", found " + describe(v.node));
@@ -464,7 +478,7 @@ PropertyTable read_property(const Reader& r, const Val& v, const std::string& na
   PropertyTable t;
   t.where = r.at(v);
   if (v.node.IsScalar()) {
-    t.value = {r.number(v)};
+    t.value = {r.material_number(v)};
     check_property(r, v, p, name, t.value[0]);
     return t;
   }
@@ -487,10 +501,37 @@ PropertyTable read_property(const Reader& r, const Val& v, const std::string& na
     r.fail(val, "expected " + std::to_string(ts.size()) + " values (one per temperature), found " +
                     std::to_string(vs.size()));
   for (std::size_t i = 0; i < vs.size(); ++i) {
-    t.value.push_back(r.number(vs[i]));
+    t.value.push_back(r.material_number(vs[i]));
     check_property(r, vs[i], p, name, t.value[i]);
   }
   return t;
+}
+
+/// E and nu whose stiffness or compliance leaves the range of floating point (E = 1e308 with
+/// nu = 0.3 has a finite E but an infinite E/(1 − 2nu)): checked at every temperature of
+/// their tables, where the extremes of these monotone functions of E and nu lie.
+void check_elastic_range(const MaterialSpec& mat) {
+  std::vector<double> ts = {0.0};
+  for (const PropertyTable* p : {&mat.E, &mat.nu})
+    ts.insert(ts.end(), p->temperature.begin(), p->temperature.end());
+  for (double T : ts) {
+    const ElasticConstants k{mat.E(T), mat.nu(T), 0.0};
+    const std::pair<const char*, double> parts[] = {
+        {"the shear modulus G = E/(2(1 + nu))", k.shear_modulus()},
+        {"the Lame constant lambda = E nu/((1 + nu)(1 - 2nu))", k.lame_lambda()},
+        {"the bulk stiffness E/(1 - 2nu)", k.E / (1 - 2 * k.nu)},
+        {"the compliance 2(1 + nu)/E", 2 * (1 + k.nu) / k.E}};
+    for (const auto& [what, value] : parts)
+      if (!std::isfinite(value))
+        throw InputError(
+            mat.E.where,
+            "E = " + num(k.E) + " with nu = " + num(k.nu) +
+                (mat.E.is_constant() && mat.nu.is_constant() ? std::string()
+                                                             : " (at temperature " + num(T) + ")") +
+                " gives " + what + " = " + num(value) +
+                ", beyond the range of floating point; choose units that keep the "
+                "material's numbers moderate (e.g. MPa and mm)");
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -524,7 +565,7 @@ CurveSpec::Table read_curve_table(const Reader& r, const Val& item, bool several
   const auto ss = r.list(stress, "a list of stresses [s1, s2, ...]");
   if (es.empty()) r.fail(strain, "expected at least one point, found an empty list");
   for (std::size_t i = 0; i < es.size(); ++i) {
-    t.strain.push_back(r.number(es[i]));
+    t.strain.push_back(r.material_number(es[i]));
     t.point_where.push_back(r.at(es[i]));
     if (i > 0 && !(t.strain[i] > t.strain[i - 1]))
       r.fail(es[i], "strains must be strictly increasing, found " + num(t.strain[i]) + " after " +
@@ -533,7 +574,7 @@ CurveSpec::Table read_curve_table(const Reader& r, const Val& item, bool several
   if (ss.size() != es.size())
     r.fail(stress, "expected " + std::to_string(es.size()) + " stresses (one per strain), found " +
                        std::to_string(ss.size()));
-  for (const auto& sv : ss) t.stress.push_back(r.number(sv));
+  for (const auto& sv : ss) t.stress.push_back(r.material_number(sv));
   return t;
 }
 
@@ -604,11 +645,14 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
   } else {
     Map cm(r, c, ramberg_osgood_keys, "a map {E: 2e11, yield: 240e6, alpha: 0.002, n: 10}");
     curve.kind = CurveSpec::Kind::ramberg_osgood;
-    curve.ro_E = r.positive(cm.require(
-        r, "E", "the Young's modulus of the Ramberg-Osgood fit in Pa (usually the material's E)"));
+    const Val ro_E = cm.require(
+        r, "E", "the Young's modulus of the Ramberg-Osgood fit in Pa (usually the material's E)");
+    curve.ro_E = r.positive(ro_E);
+    r.material_number(ro_E);
     curve.yield = yield(cm);
-    curve.ro_alpha =
-        r.positive(cm.require(r, "alpha", "the Ramberg-Osgood factor, e.g. alpha: 0.002"));
+    const Val ro_alpha = cm.require(r, "alpha", "the Ramberg-Osgood factor, e.g. alpha: 0.002");
+    curve.ro_alpha = r.positive(ro_alpha);
+    r.material_number(ro_alpha);
     const Val n = cm.require(r, "n", "the Ramberg-Osgood exponent (> 1), e.g. n: 10");
     curve.ro_n = r.number(n);
     if (!(curve.ro_n > 1)) r.fail(n, "expected an exponent n > 1, found " + num(curve.ro_n));
@@ -664,6 +708,7 @@ std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has
                           Property::E);
     mat.nu =
         read_property(r, m.require(r, "nu", "Poisson's ratio, e.g. nu: 0.3"), "nu", Property::nu);
+    check_elastic_range(mat);
     if (auto a = m.get("alpha")) {
       mat.alpha = read_property(r, *a, "alpha", Property::alpha);
     } else if (has_temperature) {
@@ -794,15 +839,18 @@ TemperatureSpec read_temperature(const Reader& r, const Val& v) {
   TemperatureSpec t;
   t.given = true;
   t.where = r.at(v);
-  t.reference = r.number(
-      m.require(r, "reference",
-                "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20"));
+  const Val reference = m.require(
+      r, "reference", "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20");
+  t.reference = r.number(reference);
+  t.reference_where = r.at(reference);
   const Val f = m.require(
       r, "field", "the temperature: a number, an expression in x, y, z, t or {file: temps.csv}");
+  t.field_where = r.at(f);
   if (f.node.IsMap()) {
     Map fm(r, f, field_file_keys, "{file: temps.csv}");
-    t.file =
-        read_temperature_csv(r, fm.require(r, "file", "the CSV file with the nodal temperatures"));
+    const Val file = fm.require(r, "file", "the CSV file with the nodal temperatures");
+    t.field_where = r.at(file);
+    t.file = read_temperature_csv(r, file);
   } else if (f.node.IsScalar()) {
     t.field = r.expression(f);
   } else {
@@ -879,9 +927,14 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
 // ---------------------------------------------------------------------------------------------
 // Solver and output
 
+/// Why the number of steps is bounded (max_steps).
+const std::string too_many_steps =
+    ": every step is a solve with a history row and a log line, so more steps only make the run "
+    "and its outputs longer without resolving the load path better (split a long load history "
+    "into several cases, or use larger steps)";
+
 SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_contact) {
   SolverSpec s;
-  s.times = {1.0};
   if (!v) return s;
   Map m(r, *v, solver_keys);
   if (auto x = m.get("scheme")) s.scheme = r.choice(*x, schemes, "scheme");
@@ -893,22 +946,34 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
             r.at(m.key_mark(k), child_path(v->path, k)),
             std::string("give either 'times' or 'steps' and 'end', not both; found '") + k +
                 "' with 'times'");
+    if (!x->node.IsSequence())
+      r.fail(*x, "expected a list of step end times [t1, t2, ...], found " + describe(x->node));
+    if (x->node.size() > static_cast<std::size_t>(max_steps))
+      r.fail(*x, "expected at most " + std::to_string(max_steps) + " step end times, found " +
+                     std::to_string(x->node.size()) + too_many_steps);
     const auto items = r.list(*x, "a list of step end times [t1, t2, ...]");
     if (items.empty()) r.fail(*x, "expected at least one time, found an empty list");
-    s.times.clear();
+    std::vector<double> times;
     for (const auto& it : items) {
       const double t = r.number(it);
       if (!(t > 0)) r.fail(it, "step end times must be > 0, found " + num(t));
-      if (!s.times.empty() && !(t > s.times.back()))
+      if (!times.empty() && !(t > times.back()))
         r.fail(it, "step end times must be strictly increasing, found " + num(t) + " after " +
-                       num(s.times.back()));
-      s.times.push_back(t);
+                       num(times.back()));
+      times.push_back(t);
     }
+    s.times = StepTimes::list(std::move(times));
   } else {
-    const int steps = m.has("steps") ? r.integer_at_least(*m.get("steps"), 1) : 1;
+    long steps = 1;
+    if (auto x = m.get("steps")) {
+      steps = r.integer(*x);
+      if (steps < 1) r.fail(*x, "expected a whole number >= 1, found " + std::to_string(steps));
+      if (steps > max_steps)
+        r.fail(*x, "expected at most " + std::to_string(max_steps) + " steps, found " +
+                       std::to_string(steps) + too_many_steps);
+    }
     const double end = m.has("end") ? r.positive(*m.get("end")) : 1.0;
-    s.times.clear();
-    for (int k = 1; k <= steps; ++k) s.times.push_back(end * k / steps);
+    s.times = StepTimes::equal(steps, end);
   }
   if (auto x = m.get("max_iterations")) s.max_iterations = r.integer_at_least(*x, 1);
   if (auto x = m.get("tolerance")) {
@@ -1094,9 +1159,14 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
                        const std::vector<BoundarySpec>& boundary) {
   OutputSpec o;
   o.dir = default_dir;
+  o.dir_where = SourceLocation{r.label(), 0, 0, "output.dir"};
   if (!v) return o;
   Map m(r, *v, output_keys);
-  if (auto x = m.get("dir")) o.dir = r.resolve(r.string(*x, "a folder name"));
+  if (auto x = m.get("dir")) {
+    o.dir = r.resolve(r.string(*x, "a folder name"));
+    if (!o.dir.has_filename()) o.dir = o.dir.parent_path();  // "results/" is "results"
+    o.dir_where = r.at(*x);
+  }
   if (auto x = m.get("every")) o.every = r.integer_at_least(*x, 1);
   if (auto x = m.get("probes")) {
     if (x->node.IsMap())
@@ -1162,6 +1232,9 @@ std::string tab_hint(const std::string& text) {
 
 Case read_case(const fs::path& case_file) {
   const std::string label = case_file.string();
+  // fs::absolute throws on an empty path: say what a missing file says.
+  if (case_file.empty())
+    throw InputError(SourceLocation{}, "case file not found: the path is empty (\"\")");
   Case c;
   c.file = fs::absolute(case_file).lexically_normal();
   std::error_code ec;

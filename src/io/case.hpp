@@ -103,6 +103,9 @@ struct TemperatureSpec {
   std::optional<Expression> field;  ///< T(x, y, z, t); exactly one of field / file is set
   std::optional<TemperatureFile> file;  ///< when given
   SourceLocation where;                 ///< the temperature section
+  SourceLocation reference_where;       ///< the value of temperature.reference
+  SourceLocation field_where;  ///< the value of temperature.field (key temperature.field.file
+                               ///< for a file)
 };
 
 enum class BoundaryKind { displacement, pressure, traction, force };
@@ -145,6 +148,53 @@ struct ContactSpec {
   SourceLocation surface_where;  ///< location of the surface
 };
 
+/// The most steps a case may have (solver.steps, or the length of solver.times). Each step
+/// costs at least a solve, a history row and a log line, and its fields are written every
+/// output.every steps: a million steps write 440 MB of history and log even on a 4-element
+/// mesh and take hours to weeks on a real one, and more steps than that resolve no load path
+/// better (docs/case-reference.md, solver).
+inline constexpr long max_steps = 1000000;
+
+/// The end times of the steps: strictly increasing, > 0, at least one, at most max_steps.
+/// Equal steps (solver.steps and solver.end) are kept as their rule, not as a list, so that
+/// reading and checking a case allocates nothing per step.
+class StepTimes {
+ public:
+  /// One step, to t = 1 (the default).
+  StepTimes() = default;
+  /// n equal steps over [0, end]: step k = 1 .. n ends at end·k/n.
+  static StepTimes equal(long n, double end) {
+    StepTimes s;
+    s.n_ = static_cast<std::size_t>(n);
+    s.end_ = end;
+    return s;
+  }
+  /// The listed end times (solver.times).
+  static StepTimes list(std::vector<double> times) {
+    StepTimes s;
+    s.list_ = std::move(times);
+    return s;
+  }
+
+  std::size_t size() const { return list_.empty() ? n_ : list_.size(); }
+  /// End time of step k = 0 .. size() − 1.
+  double operator[](std::size_t k) const {
+    return list_.empty() ? end_ * static_cast<double>(k + 1) / static_cast<double>(n_) : list_[k];
+  }
+  double back() const { return (*this)[size() - 1]; }
+  /// Every end time, in order (tests and tools; the solver takes them one by one).
+  std::vector<double> all() const {
+    std::vector<double> t(size());
+    for (std::size_t k = 0; k < t.size(); ++k) t[k] = (*this)[k];
+    return t;
+  }
+
+ private:
+  std::size_t n_ = 1;         ///< equal steps: their number
+  double end_ = 1.0;          ///< equal steps: the end time
+  std::vector<double> list_;  ///< listed end times; empty for equal steps
+};
+
 struct SolverSpec {
   enum class Linear { direct, iterative, petsc };
   /// newton | variable-stiffness | initial-strain | initial-strain-stiffness | initial-stress
@@ -152,7 +202,7 @@ struct SolverSpec {
   /// single linear solve per step.
   std::string scheme = "newton";
   std::string curve_form = "stress";  ///< stress | strain (variable-stiffness only)
-  std::vector<double> times;  ///< end times of the steps, strictly increasing, > 0, not empty
+  StepTimes times;                    ///< end times of the steps
   int max_iterations = 50;
   double tolerance = 1e-6;         ///< 0 < tolerance < 1
   double relaxation = 1.0;         ///< > 0
@@ -178,6 +228,7 @@ struct SolverSpec {
 
 struct OutputSpec {
   std::filesystem::path dir;  ///< absolute; default <case dir>/<case stem>.out
+  SourceLocation dir_where;   ///< key output.dir; the case file alone when it is the default
   int every = 1;              ///< >= 1; the last step is always written
   std::vector<ProbeSpec> probes;
   std::vector<std::string> reactions;  ///< regions that have a displacement condition

@@ -87,31 +87,78 @@ namespace {
 /// An existing output directory is replaced only when it is empty or holds hencky results, so
 /// that a mistyped `-o` never deletes an unrelated folder.
 bool replaceable(const fs::path& dir) {
-  if (!fs::exists(dir)) return true;
-  if (!fs::is_directory(dir)) return false;
-  if (fs::is_empty(dir)) return true;
-  return fs::exists(dir / "summary.json") || fs::exists(dir / "results.pvd") ||
-         fs::exists(dir / "hencky.log");
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return true;
+  if (!fs::is_directory(dir, ec)) return false;
+  if (fs::is_empty(dir, ec)) return true;
+  return fs::exists(dir / "summary.json", ec) || fs::exists(dir / "results.pvd", ec) ||
+         fs::exists(dir / "hencky.log", ec);
 }
-}  // namespace
 
-ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log)
-    : model_(model), final_dir_(std::move(final_dir)), log_(log) {
-  const SourceLocation where{model.spec().file.string(), 0, 0, "output.dir"};
-  const fs::path parent = final_dir_.parent_path();
-  if (!parent.empty() && !fs::is_directory(parent))
+fs::path work_dir_of(const fs::path& final_dir) {
+  fs::path w = final_dir;
+  w += fmt::format(".partial-{}", ::getpid());
+  return w;
+}
+
+/// The checks of check_output_dir that touch nothing.
+void check_output_target(const fs::path& dir, const SourceLocation& where) {
+  const fs::path parent = dir.parent_path();
+  std::error_code ec;
+  if (dir.filename().empty() || dir.filename() == "." || dir.filename() == "..")
+    throw InputError(
+        where, fmt::format("expected the path of an output directory, found {}", dir.string()));
+  if (!parent.empty() && !fs::is_directory(parent, ec))
     throw InputError(where, fmt::format("the folder {} does not exist", parent.string()));
-  if (!replaceable(final_dir_))
+  if (!replaceable(dir))
     throw InputError(where, fmt::format("{} exists and is not a hencky output directory (no "
                                         "summary.json, results.pvd or hencky.log); it is left "
                                         "alone: choose another output directory",
-                                        final_dir_.string()));
-  work_dir_ = final_dir_;
-  work_dir_ += fmt::format(".partial-{}", ::getpid());
-  fs::remove_all(work_dir_);
-  fs::create_directories(work_dir_);
-  log_.attach_file((work_dir_ / "hencky.log").string());
+                                        dir.string()));
+}
+
+/// Creates the work directory (after removing a stale one of the same name); an InputError at
+/// `where` when the file system refuses (a read-only or virtual file system, no permission).
+void create_work_dir(const fs::path& dir, const fs::path& work, const SourceLocation& where) {
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  if (!fs::create_directory(work, ec) || ec)
+    throw InputError(where, fmt::format("cannot create the output directory {}: creating {} "
+                                        "next to it failed ({}); choose a folder you can write to",
+                                        dir.string(), work.filename().string(),
+                                        ec ? ec.message() : "it exists"));
+}
+
+[[noreturn]] void cannot_write(const fs::path& dir, const fs::path& file,
+                               const SourceLocation& where) {
+  std::error_code ec;
+  fs::remove_all(file.parent_path(), ec);
+  throw InputError(where, fmt::format("cannot write {} into the output directory {}; choose a "
+                                      "folder you can write to",
+                                      file.filename().string(), dir.string()));
+}
+}  // namespace
+
+void check_output_dir(const fs::path& dir, const SourceLocation& where) {
+  check_output_target(dir, where);
+  const fs::path work = work_dir_of(dir);
+  create_work_dir(dir, work, where);
+  const fs::path probe = work / "hencky.log";
+  const bool written = static_cast<bool>(std::ofstream(probe) << "");
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  if (!written) cannot_write(dir, probe, where);
+}
+
+ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
+                           const SourceLocation& where)
+    : model_(model), final_dir_(std::move(final_dir)), log_(log) {
+  check_output_target(final_dir_, where);
+  work_dir_ = work_dir_of(final_dir_);
+  create_work_dir(final_dir_, work_dir_, where);
   history_.open(work_dir_ / "history.csv");
+  if (!history_) cannot_write(final_dir_, work_dir_ / "history.csv", where);
+  log_.attach_file((work_dir_ / "hencky.log").string());
   history_ << "step,time,iterations,residual";
   for (const auto& p : model_.probes()) {
     const auto& name = p.spec->name;

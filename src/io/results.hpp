@@ -45,9 +45,19 @@ struct NodalContact {
 };
 NodalContact nodal_contact(const Model& model, const State& state);
 
+/// Checks that `dir` can be the output directory of a run, before the run starts: its folder
+/// exists, `dir` is absent, empty or holds hencky results (so that a mistyped path never
+/// replaces unrelated files), and the work directory `<dir>.partial-<pid>` next to it can be
+/// created and written (it is created and removed again: nothing is left behind). Throws an
+/// InputError at `where` (the case's output.dir, or the command line's -o).
+void check_output_dir(const std::filesystem::path& dir, const SourceLocation& where);
+
 class ResultWriter final : public StepObserver {
  public:
-  ResultWriter(const Model& model, std::filesystem::path final_dir, Log& log);
+  /// Creates the work directory next to `final_dir` and starts history.csv, hencky.log and
+  /// results.pvd in it; what check_output_dir checks is an InputError at `where` here too.
+  ResultWriter(const Model& model, std::filesystem::path final_dir, Log& log,
+               const SourceLocation& where);
   ~ResultWriter() override;
   const std::filesystem::path& work_dir() const { return work_dir_; }
 

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <deque>
+#include <type_traits>
 
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
@@ -190,6 +193,9 @@ class StepSolver {
       // travel) is no force scale of the problem: that of the internal forces of the iterate is.
       const double scale = contact_.active() ? std::max(f_norm, norm(trial.f_int)) : f_norm;
       residual = scale > 0 ? std::sqrt(r) / scale : 0.0;
+      // A NaN or an infinity in the iterate makes r or the scale non-finite; a NaN scale would
+      // read as "no load" above (and a residual of 0 as converged).
+      if (!std::isfinite(r) || !std::isfinite(scale)) residual = NAN;
       if (only_) {
         // The sums over ranks may differ in their last bits from rank to rank: root's figures
         // decide for all.
@@ -211,6 +217,7 @@ class StepSolver {
                     cp.in_contact, cp.set_changed ? ", set changed" : "",
                     cp.kappa_raised ? ", κ raised" : "", cp.worst_gap);
       }
+      if (!std::isfinite(residual)) not_finite(trial, iterations, residual);
       const bool measures_ok =
           !plastic_ || (delta_sigma_ <= spec.tolerance && delta_eps_ <= spec.tolerance);
       const bool contact_ok = !contact_.active() || contact_.progress().converged();
@@ -234,10 +241,12 @@ class StepSolver {
                 u_max, 100 * spec.mechanism_limit, model_size_));
           }
         }
+        // Never "converged" with a NaN or an infinity anywhere in the answer.
+        if (par::any(!all_finite(trial))) not_finite(trial, iterations, residual);
         if (extrapolate_) remember_increment(c, trial);
         return true;
       }
-      if (iterations >= spec.max_iterations || !std::isfinite(residual)) return false;
+      if (iterations >= spec.max_iterations) return false;
       const bool new_elements =
           !factorized_ || (iterations == 0 && matrix_changes_with_temperature_) ||
           (tangent_changed_ && (options_.matrix_per_iteration() ||
@@ -373,6 +382,8 @@ class StepSolver {
     s.constants.resize(m_.n_points());
     const int n_mat = static_cast<int>(m_.materials().size());
     std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY);
+    int bad_cell = -1;  // the first cell with a temperature whose thermal strain overflows
+    double bad_T = 0;
     for (int e = 0; e < mesh.cells.size(); ++e) {
       if (!m_.holds_points(e)) continue;
       const auto nodes = mesh.cells.nodes(e);
@@ -386,14 +397,97 @@ class StepSolver {
         const int p = m_.point_offset(e) + q;
         s.temperature[p] = T;
         s.constants[p] = mat.at(T);
+        if (bad_cell < 0 && !m_.thermal_in_range(mi, s.constants[p], T)) bad_cell = e, bad_T = T;
         t_min[mi] = std::min(t_min[mi], T);
         t_max[mi] = std::max(t_max[mi], T);
       }
+    }
+    // An input error, before the step is solved; every rank reports the model's first such cell.
+    if (const int first = par::min(bad_cell < 0 ? INT_MAX : bad_cell); first != INT_MAX) {
+      double T = first == bad_cell ? bad_T : -INFINITY;
+      par::max_in_place(std::span<double>(&T, 1));
+      m_.thermal_out_of_range(first, T, s.time);
     }
     par::min_in_place(std::span<double>(t_min));
     par::max_in_place(std::span<double>(t_max));
     for (int k = 0; k < n_mat; ++k)
       if (t_min[k] <= t_max[k]) m_.materials()[k].warn_outside(t_min[k], t_max[k], log_);
+  }
+
+  /// Every value of the iterate is a finite number: the forces, the displacement and this
+  /// rank's points' state.
+  bool all_finite(const State& s) const {
+    const auto finite = [](const auto& v) {
+      return std::all_of(v.begin(), v.end(), [](const auto& x) {
+        if constexpr (std::is_arithmetic_v<std::decay_t<decltype(x)>>)
+          return std::isfinite(x);
+        else
+          return x.allFinite();
+      });
+    };
+    return finite(s.f_ext) && finite(s.u) && finite(s.stress) && finite(s.temperature) &&
+           finite(s.plastic_strain) && finite(s.eps_p_eq) && finite(s.eps_ep) && finite(s.f_int) &&
+           finite(s.f_contact);
+  }
+
+  /// Stops the step (SolveError, so a failed step) where a NaN or an infinity first appears in
+  /// the iterate, in the order the values are computed: the external forces, the displacement,
+  /// a point's state, the internal and the contact forces. Collective (the same decisions and
+  /// message on every rank).
+  [[noreturn]] void not_finite(const State& s, int iteration, double residual) {
+    failed_in_linear_solver_ = false;  // not the support's fault (run_analysis)
+    const auto& mesh = m_.mesh();
+    const auto first_dof = [](const std::vector<double>& v) {
+      for (std::size_t i = 0; i < v.size(); ++i)
+        if (!std::isfinite(v[i])) return static_cast<long long>(i);
+      return LLONG_MAX;
+    };
+    const std::string when = fmt::format("in iteration {} of the step", iteration);
+    const char* why =
+        "the solution left the range of floating point (a load, a prescribed displacement or a "
+        "temperature far too large for the material, or an iteration that diverged)";
+    const auto at_node = [&](const char* what, const std::vector<double>& v) {
+      const long long i = par::min(first_dof(v));
+      if (i == LLONG_MAX) return;
+      throw SolveError(fmt::format("a NaN or an infinity appeared in the {} at node {} ({}) {}: {}",
+                                   what, mesh.node_tag[i / 3], "xyz"[i % 3], when, why));
+    };
+    at_node("external forces", s.f_ext);
+    at_node("displacement", s.u);
+    // Points: the first cell, and whether its stress (code 0) or its plastic state (1) is bad.
+    long long cell_code = LLONG_MAX;
+    for (int e = 0; e < mesh.cells.size() && cell_code == LLONG_MAX; ++e)
+      for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+        const bool stress = !s.stress[p].allFinite() || !std::isfinite(s.temperature[p]);
+        if (stress || !s.plastic_strain[p].allFinite() || !std::isfinite(s.eps_p_eq[p]) ||
+            !std::isfinite(s.eps_ep[p])) {
+          cell_code = 2LL * e + (stress ? 0 : 1);
+          break;
+        }
+      }
+    if (const long long cc = par::min(cell_code); cc != LLONG_MAX) {
+      const int e = static_cast<int>(cc / 2);
+      throw SolveError(fmt::format(
+          "a NaN or an infinity appeared in the {} at element {} (material '{}') {}: {}",
+          cc % 2 == 0 ? "stress" : "plastic strain", mesh.cells.tag[e],
+          m_.material_of(e).spec->name, when, why));
+    }
+    at_node("internal forces", s.f_int);
+    at_node("contact forces", s.f_contact);
+    // Every value is finite, but the forces are too large to measure: the squares in the
+    // residual's norms overflow. Name the largest force (root's figures are the ones printed).
+    const char* what = "residual";
+    double largest = 0;
+    std::size_t at = 0;
+    for (const auto& [name, v] :
+         {std::pair{"external force", &s.f_ext}, std::pair{"internal force", &s.f_int},
+          std::pair{"contact force", &s.f_contact}})
+      for (std::size_t i = 0; i < v->size(); ++i)
+        if (std::abs((*v)[i]) > largest) largest = std::abs((*v)[i]), at = i, what = name;
+    throw SolveError(fmt::format(
+        "the relative residual is {} {}: the {} at node {} is {:g}, too large to measure "
+        "(its square overflows): {}",
+        residual, when, what, mesh.node_tag[at / 3], largest, why));
   }
 
   /// Per point, what stays fixed during the step (flow direction, start slope, the curve at
@@ -772,8 +866,15 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
     double time;
     int depth;
   };
+  // The step times are taken one at a time (a case may have a million steps): the deque holds
+  // the current one and the cut-back targets before it.
   std::deque<Target> targets;
-  for (double t : spec.times) targets.push_back({t, 0});
+  std::size_t next_step = 0;
+  const auto take_next_step = [&] {
+    if (targets.empty() && next_step < spec.times.size())
+      targets.push_back({spec.times[next_step++], 0});
+  };
+  take_next_step();
   int factorizations_before = 0;
   while (!targets.empty()) {
     const double t1 = targets.front().time;
@@ -819,6 +920,7 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
       return result;
     }
     targets.pop_front();
+    take_next_step();
     std::swap(committed, trial);
     ++result.steps;
     StepReport report;

@@ -14,9 +14,13 @@
 namespace hencky {
 
 LoadedCase load_case(const std::filesystem::path& case_file, Log& log) {
+  return load_case(std::make_unique<Case>(read_case(case_file)), log);
+}
+
+LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
   using Clock = std::chrono::steady_clock;
   LoadedCase l;
-  l.spec = std::make_unique<Case>(read_case(case_file));
+  l.spec = std::move(spec);
   auto t0 = Clock::now();
   MeshReadOptions opt;
   opt.order = l.spec->mesh.order;

@@ -21,6 +21,8 @@ struct LoadedCase {
 
 /// Reads the case, reads (or meshes) its mesh and binds them. Throws InputError.
 LoadedCase load_case(const std::filesystem::path& case_file, Log& log);
+/// The same for a case already read: reads (or meshes) its mesh and binds them.
+LoadedCase load_case(std::unique_ptr<Case> spec, Log& log);
 
 /// "1865 nodes, 320 elements (320 20-node hexahedron)"
 std::string describe_mesh(const Mesh& mesh);

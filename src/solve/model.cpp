@@ -41,6 +41,7 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   check_cells();
   bind_boundary();
   bind_temperature();
+  check_temperature_range();
   bind_outputs();
   bind_contact();
   hold_points(std::vector<char>(mesh_.cells.size(), 1));
@@ -268,6 +269,69 @@ void Model::bind_temperature() {
                                  n_missing, first_missing));
 }
 
+bool Model::thermal_in_range(int mi, const ElasticConstants& k, double T) const {
+  const double strain = k.thermal_strain(T) - reference_strain_[mi];
+  return std::isfinite(strain) && std::isfinite(k.E / (1 - 2 * k.nu) * strain);
+}
+
+void Model::thermal_out_of_range(int cell, double T, double t) const {
+  const int mi = cell_material_[cell];
+  const ElasticConstants k = materials_[mi].at(T);
+  const double strain = k.thermal_strain(T) - reference_strain_[mi];
+  const auto& ts = case_->temperature;
+  throw InputError(
+      ts.field_where,
+      fmt::format("the temperature {:g} at element {} (material '{}'{}) gives the thermal strain "
+                  "alpha(T)*T - alpha(T_ref)*T_ref = {:g} (alpha = {:g}, T_ref = {:g}) and, fully "
+                  "restrained, the stress E/(1 - 2nu) times that = {:g}: beyond the range of "
+                  "floating point; check the temperatures' magnitude and units",
+                  T, mesh_.cells.tag[cell], materials_[mi].spec->name,
+                  std::isnan(t) ? std::string() : fmt::format(", t = {:g}", t), strain, k.alpha,
+                  reference_temperature_, k.E / (1 - 2 * k.nu) * strain));
+}
+
+void Model::check_temperature_range() {
+  // What can be known before the first step (so that `hencky check` finds it too); the step
+  // loop checks every point's temperature at every step (solve/analysis.cpp).
+  const auto& ts = case_->temperature;
+  auto& ref = reference_strain_;
+  ref.clear();
+  for (const auto& m : materials_) {
+    ref.push_back(m.at(reference_temperature_).thermal_strain(reference_temperature_));
+    if (!std::isfinite(ref.back()))
+      throw InputError(ts.reference_where,
+                       fmt::format("T_ref = {:g} gives material '{}' alpha(T_ref)*T_ref = {:g}: "
+                                   "beyond the range of floating point; check its magnitude "
+                                   "and units",
+                                   reference_temperature_, m.spec->name, ref.back()));
+  }
+  if (!ts.given) return;
+  // Per cell, the lowest and the highest temperature any of its nodes takes: a constant field
+  // takes one value; a file, each node's range over its times.
+  std::vector<double> lo, hi;
+  if (ts.field && ts.field->is_constant()) {
+    const double T = (*ts.field)(0, 0, 0, 0);
+    lo.assign(mesh_.n_nodes(), T);
+    hi.assign(mesh_.n_nodes(), T);
+  } else if (ts.file) {
+    const std::size_t n_times = ts.file->times.size();
+    lo.resize(mesh_.n_nodes());
+    hi.resize(mesh_.n_nodes());
+    for (int n = 0; n < mesh_.n_nodes(); ++n) {
+      const double* v = ts.file->values.data() + temperature_row_[n] * n_times;
+      lo[n] = *std::min_element(v, v + n_times);
+      hi[n] = *std::max_element(v, v + n_times);
+    }
+  } else {
+    return;  // an expression: known at the steps only
+  }
+  for (int e = 0; e < mesh_.cells.size(); ++e)
+    for (int n : mesh_.cells.nodes(e))
+      for (double T : {lo[n], hi[n]})
+        if (!thermal_in_range(cell_material_[e], material_of(e).at(T), T))
+          thermal_out_of_range(e, T, NAN);
+}
+
 void Model::bind_contact() {
   std::vector<int> node_point(mesh_.n_nodes());
   for (const ContactSpec& spec : case_->contact) {
@@ -389,6 +453,17 @@ void Model::prescribed_displacement(double t, std::vector<double>& u) const {
   }
 }
 
+namespace {
+/// A load whose values are finite but whose nodal force is not (a traction of 1e308 times an
+/// area, a total force over a small region, the sum of several such loads at a node).
+[[noreturn]] void load_overflow(const Expression& value, const char* what, long node, double t) {
+  throw InputError(value.where(),
+                   fmt::format("{}: \"{}\" gives at t = {:g} a force at node {} beyond the range "
+                               "of floating point; check the load's magnitude and units",
+                               what, value.text(), t, node));
+}
+}  // namespace
+
 void Model::external_forces(double t, std::vector<double>& f) const {
   f.assign(3 * static_cast<std::size_t>(mesh_.n_nodes()), 0.0);
   std::vector<Vec3> x(max_cell_nodes);
@@ -411,7 +486,13 @@ void Model::external_forces(double t, std::vector<double>& f) const {
       }
       const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
       for (std::size_t a = 0; a < nodes.size(); ++a)
-        for (int d = 0; d < 3; ++d) f[3 * nodes[a] + d] += N[a] * traction[d];
+        for (int d = 0; d < 3; ++d) {
+          double& fi = f[3 * nodes[a] + d];
+          fi += N[a] * traction[d];
+          if (!std::isfinite(fi))
+            load_overflow(bc.kind == BoundaryKind::pressure ? *bc.pressure : *bc.components[d],
+                          to_string(bc.kind), mesh_.node_tag[nodes[a]], t);
+        }
     }
   }
   if (case_->body_force) {
@@ -429,7 +510,11 @@ void Model::external_forces(double t, std::vector<double>& f) const {
         for (int d = 0; d < 3; ++d) bq[d] = b[d].eval_checked(p.x(), p.y(), p.z(), t, "body_force");
         const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
         for (std::size_t a = 0; a < nodes.size(); ++a)
-          for (int d = 0; d < 3; ++d) f[3 * nodes[a] + d] += N[a] * bq[d] * dv;
+          for (int d = 0; d < 3; ++d) {
+            double& fi = f[3 * nodes[a] + d];
+            fi += N[a] * bq[d] * dv;
+            if (!std::isfinite(fi)) load_overflow(b[d], "body_force", mesh_.node_tag[nodes[a]], t);
+          }
       }
     }
   }

@@ -86,13 +86,23 @@ class Model {
   /// Prescribed displacement at time t written into the prescribed entries of u (3 per node).
   void prescribed_displacement(double t, std::vector<double>& u) const;
   /// External nodal forces at time t (pressure, traction, force, body force), 3 per node.
+  /// A load whose nodal forces overflow is an InputError at its key.
   void external_forces(double t, std::vector<double>& f) const;
+
+  /// Whether the constants k of material `mi` at temperature T give a thermal strain
+  /// α(T)·T − α(T_ref)·T_ref that, and whose stress when fully restrained (E/(1 − 2ν) times
+  /// it), are finite numbers. Thread-safe.
+  bool thermal_in_range(int mi, const ElasticConstants& k, double T) const;
+  /// The InputError, at the temperature field's key, for a temperature T of `cell` at time t
+  /// that thermal_in_range refuses (t NaN: at every time).
+  [[noreturn]] void thermal_out_of_range(int cell, double T, double t) const;
 
  private:
   void bind_materials(Log& log);
   void check_cells();
   void bind_boundary();
   void bind_temperature();
+  void check_temperature_range();
   void bind_outputs();
   void bind_contact();
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
@@ -113,6 +123,7 @@ class Model {
   std::vector<ReactionRegion> reactions_;
   std::vector<ContactBody> contacts_;
   std::vector<int> temperature_row_;  ///< row of the temperature file for each node
+  std::vector<double> reference_strain_;  ///< α(T_ref)·T_ref of each material
   double reference_temperature_ = 0;
 };
 

@@ -214,7 +214,7 @@ output:
 
   EXPECT_EQ(c.solver.scheme, "initial-strain-stiffness");
   EXPECT_EQ(c.solver.curve_form, "strain");
-  EXPECT_EQ(c.solver.times, (std::vector<double>{0.5, 1.0, 1.5, 2.0}));
+  EXPECT_EQ(c.solver.times.all(), (std::vector<double>{0.5, 1.0, 1.5, 2.0}));
   EXPECT_EQ(c.solver.max_iterations, 30);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.8);
@@ -248,7 +248,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_FALSE(c.body_force);
   EXPECT_EQ(c.solver.scheme, "newton");
   EXPECT_EQ(c.solver.curve_form, "stress");
-  EXPECT_EQ(c.solver.times, (std::vector<double>{1.0}));
+  EXPECT_EQ(c.solver.times.all(), (std::vector<double>{1.0}));
   EXPECT_EQ(c.solver.max_iterations, 50);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-6);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 1.0);
@@ -265,11 +265,11 @@ TEST_F(CaseTest, Defaults) {
 }
 
 TEST_F(CaseTest, StepTimes) {
-  EXPECT_EQ(read(base + "solver: {times: [0.2, 0.5, 1.0]}\n").solver.times,
+  EXPECT_EQ(read(base + "solver: {times: [0.2, 0.5, 1.0]}\n").solver.times.all(),
             (std::vector<double>{0.2, 0.5, 1.0}));
-  EXPECT_EQ(read(base + "solver: {steps: 4}\n").solver.times,
+  EXPECT_EQ(read(base + "solver: {steps: 4}\n").solver.times.all(),
             (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
-  EXPECT_EQ(read(base + "solver: {end: 3}\n").solver.times, (std::vector<double>{3.0}));
+  EXPECT_EQ(read(base + "solver: {end: 3}\n").solver.times.all(), (std::vector<double>{3.0}));
   expect_error(base + "solver:\n  steps: 2\n  times: [1, 2]\n",
                {"case.yaml:11:3", "'solver.steps'", "not both"});
   expect_error(base + "solver:\n  times: [0.5, 0.5]\n",
@@ -278,6 +278,31 @@ TEST_F(CaseTest, StepTimes) {
   expect_error(base + "solver:\n  steps: 0\n", {"'solver.steps'", ">= 1", "found 0"});
   expect_error(base + "solver:\n  steps: 2.5\n", {"'solver.steps'", "whole number", "'2.5'"});
   expect_error(base + "solver:\n  end: -1\n", {"'solver.end'", "> 0"});
+}
+
+TEST_F(CaseTest, StepCountIsBoundedAndEqualStepsAreARule) {
+  // At most max_steps steps (solver.steps or the length of solver.times).
+  expect_error(base + "solver:\n  steps: 1000000000\n",
+               {"case.yaml:11:10", "'solver.steps'", "at most 1000000 steps", "found 1000000000"});
+  expect_error(base + "solver:\n  steps: 1000001\n", {"'solver.steps'", "at most 1000000"});
+  expect_error(base + "solver:\n  steps: 99999999999999999999\n",
+               {"'solver.steps'", "whole number"});
+  std::string many = base + "solver:\n  times: [";
+  for (long k = 1; k <= max_steps + 1; ++k) {
+    if (k > 1) many += ',';
+    many += std::to_string(k);
+  }
+  expect_error(many + "]\n", {"'solver.times'", "at most 1000000 step end times", "1000001"});
+  // The largest count is kept as its rule: no list of a million times.
+  const Case c = read(base + "solver: {steps: 1000000, end: 2}\n");
+  ASSERT_EQ(c.solver.times.size(), 1000000u);
+  EXPECT_EQ(c.solver.times[0], 2.0 * 1 / 1000000);
+  EXPECT_EQ(c.solver.times[499999], 1.0);
+  EXPECT_EQ(c.solver.times.back(), 2.0);
+  // The same times as the list the reader built before: end·k/n, in that order of operations.
+  const Case c3 = read(base + "solver: {steps: 7, end: 0.3}\n");
+  ASSERT_EQ(c3.solver.times.size(), 7u);
+  for (int k = 1; k <= 7; ++k) EXPECT_EQ(c3.solver.times[k - 1], 0.3 * k / 7) << k;
 }
 
 TEST_F(CaseTest, TemperatureFile) {
@@ -404,6 +429,12 @@ TEST_F(CaseTest, FileLevelErrors) {
     EXPECT_TRUE(has(e.what(), "nothing.yaml")) << e.what();
     EXPECT_TRUE(has(e.what(), "not found")) << e.what();
   }
+  try {
+    read_case("");
+    ADD_FAILURE() << "no error for an empty case path";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(has(e.what(), "case file not found")) << e.what();
+  }
   expect_error("title: x\n", {"case.yaml", "missing key 'mesh'", "'mesh'"});
   expect_error("mesh: {file: part.msh}\n", {"missing key 'materials'"});
 }
@@ -452,6 +483,24 @@ TEST_F(CaseTest, PropertyTables) {
   expect_error(head2 + "    alpha: 1e-5\n", {"'materials[0].nu'", "missing key 'nu'"});
   expect_error(head + "    E: {temperature: [20, 300], value: [2e11, 1e11]}\n",
                {"case.yaml:5:8", "'materials[0].E'", "needs a 'temperature' section"});
+  // Subnormal numbers (0 < |x| < DBL_MIN) are refused in every material value; 0 is not.
+  expect_error(head + "    E: 1e-310\n",
+               {"case.yaml:5:8", "'materials[0].E'", "subnormal", "found '1e-310'"});
+  expect_error(head + "    E: {temperature: [20, 300], value: [2e11, 4.9e-324]}\n",
+               {"'materials[0].E.value[1]'", "subnormal"});
+  expect_error(head2 + "    nu: -1e-320\n", {"'materials[0].nu'", "subnormal"});
+  expect_error(head2 + "    nu: 0.3\n    alpha: 2e-315\n", {"'materials[0].alpha'", "subnormal"});
+  EXPECT_EQ(read(head2 + "    nu: 0\n    alpha: 0\n").materials[0].alpha(20), 0.0);
+  EXPECT_EQ(read(head + "    E: 2.2250738585072014e-308\n").materials[0].E(20),
+            2.2250738585072014e-308);
+  // Finite E and nu whose stiffness overflows.
+  expect_error(head + "    E: 1.7e308\n",
+               {"case.yaml:5:8", "'materials[0].E'", "E = 1.7e+308 with nu = 0.3",
+                "E/(1 - 2nu) = inf", "range of floating point"});
+  expect_error(
+      "mesh: {file: part.msh}\nmaterials:\n  - nu: 0.2\n    E: {temperature: [0, 100], "
+      "value: [1e9, 1.7e308]}\n",
+      {"'materials[0].E'", "at temperature 100", "= inf"});
   // a one-entry table is a constant
   const Case c = read(head2 + "    nu: {temperature: [100], value: [0.25]}\n");
   EXPECT_TRUE(c.materials[0].nu.is_constant());
@@ -614,6 +663,21 @@ TEST_F(CaseTest, PlasticityCurveTables) {
   ASSERT_EQ(curve.tables.size(), 2u);
   EXPECT_DOUBLE_EQ(curve.tables[1].temperature, 500);
   EXPECT_EQ(curve.tables[1].stress, (std::vector<double>{1.5e8, 1.8e8}));
+}
+
+TEST_F(CaseTest, PlasticityValuesMayNotBeSubnormal) {
+  expect_error(phead +
+                   "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [2e8, "
+                   "1e-310]}]}\n",
+               {"'materials[0].plasticity.curve.table[0].stress[1]'", "subnormal"});
+  expect_error(phead +
+                   "      curve: {kind: plastic, table: [{strain: [0, 3e-320], stress: [2e8, "
+                   "3e8]}]}\n",
+               {"'materials[0].plasticity.curve.table[0].strain[1]'", "subnormal"});
+  expect_error(phead + "      perfect: {yield: 1e-310}\n",
+               {"'materials[0].plasticity.perfect.yield'", "subnormal"});
+  expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 2e8, alpha: 1e-309, n: 5}\n",
+               {"'materials[0].plasticity.ramberg_osgood.alpha'", "subnormal"});
 }
 
 TEST_F(CaseTest, PlasticityAnalyticCurves) {

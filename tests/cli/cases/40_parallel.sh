@@ -134,3 +134,22 @@ mpi_expect "parallel: a body not held, MUMPS on 2 ranks: exit 1 naming the cause
 with_petsc "$d/case.yaml"
 mpi_expect "parallel: a body not held, CG + GAMG on 2 ranks: exit 1 naming the cause" 1 \
   "'boundary'.*not held against rigid-body motion" 2 -- run "$d/case-petsc.yaml" --quiet
+# Issue 14 under mpirun: the refusals and the safety net are collective (every rank stops with
+# the same status, rank 0 reports).
+printf '%s\n' "mesh: {file: beam.geo}" "materials: [{E: 2.1e11, nu: 0.3, alpha: 1.2e-5}]" \
+  "boundary:" "  - {region: clamp, displacement: {x: 0, y: 0, z: 0}}" >"$d/clamped.yaml"
+mpi_expect "parallel: -o /proc/x on 2 ranks: exit 1 from rank 0's check, before solving" 1 \
+  "^rank 0: error: '-o': cannot create the output directory /proc/x" 2 -- \
+  run "$d/clamped.yaml" -o /proc/x --quiet
+{ cat "$d/clamped.yaml"; echo "temperature: {reference: 20, field: \"t > 0.6 ? 1e308 : 20 + 100*t\"}"
+  echo "solver: {steps: 2}"; } >"$d/hot.yaml"
+mpi_expect "parallel: a temperature that overflows at step 2 on 2 ranks: exit 1, reported once" 1 \
+  "^error: .*'temperature\.field': the temperature 1e\+308 at element [0-9]+ \(material 'material0', t = 1\)" 2 -- \
+  run "$d/hot.yaml" -o "$d/hot.out" --quiet
+[ ! -e "$d/hot.out" ] && ok "parallel: ... and nothing is written" || bad "parallel: $d/hot.out written"
+{ cat "$d/clamped.yaml"; echo "  - {region: tip, displacement: {z: \"t > 0.6 ? 1e308 : -0.001*t\"}}"
+  echo "solver: {steps: 2, cutback: 1}"; } >"$d/nan.yaml"
+mpi_expect "parallel: a NaN in the solve on 2 ranks fails the step (exit 2)" 2 "" 2 -- \
+  run "$d/nan.yaml" -o "$d/nan.out" --quiet
+ex_check "parallel: ... saying where, and step 1 is kept" "$d/nan.out/summary.json" \
+  's["status"] == "not-converged" and s["steps"] == 1 and "a NaN or an infinity appeared in the stress at element" in s["failure"]'
