@@ -1,20 +1,21 @@
 // hencky: command line (see docs/cli.md and the contract CASE_FORMAT.md).
 // Exit status: 0 converged, 1 bad input, 2 a step did not converge, 3 internal error.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
 
+#include "core/log.hpp"
 #include "hencky/version.hpp"
-#include "io/case.hpp"
-#include "io/log.hpp"
-#include "io/results.hpp"
+#include "input/case_reader.hpp"
+#include "input/load_case.hpp"
+#include "output/results.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/analysis.hpp"
 #include "solve/driver.hpp"

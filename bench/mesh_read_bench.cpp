@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <string>
 
-#include "io/gmsh_reader.hpp"
+#include "input/gmsh_reader.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 3) {

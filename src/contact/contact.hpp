@@ -32,7 +32,7 @@
 
 #include "contact/rigid_surface.hpp"
 #include "core/types.hpp"
-#include "io/case.hpp"
+#include "spec/case.hpp"
 
 namespace hencky {
 

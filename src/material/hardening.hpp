@@ -17,8 +17,8 @@
 // Evaluations are pure and thread-safe: the element loops call them for every point.
 #include <vector>
 
-#include "io/case.hpp"
-#include "io/log.hpp"
+#include "core/log.hpp"
+#include "spec/case.hpp"
 
 namespace hencky {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/log.hpp"
+#include "core/log.hpp"
 #include "linalg/linear_solver.hpp"
 #include "solve/model.hpp"
 

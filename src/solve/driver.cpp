@@ -2,39 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <map>
 
-#include "io/gmsh_reader.hpp"
 #include "linalg/petsc_solver.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/partition.hpp"
 
 namespace hencky {
-
-LoadedCase load_case(const std::filesystem::path& case_file, Log& log) {
-  return load_case(std::make_unique<Case>(read_case(case_file)), log);
-}
-
-LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
-  using Clock = std::chrono::steady_clock;
-  LoadedCase l;
-  l.spec = std::move(spec);
-  auto t0 = Clock::now();
-  MeshReadOptions opt;
-  opt.order = l.spec->mesh.order;
-  opt.scale = l.spec->mesh.scale;
-  std::vector<std::string> gmsh_log;
-  Mesh mesh = read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
-  for (const auto& line : gmsh_log)
-    if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
-  l.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  t0 = Clock::now();
-  l.model = std::make_unique<Model>(*l.spec, std::move(mesh), log);
-  l.setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  return l;
-}
 
 std::string describe_mesh(const Mesh& mesh) {
   std::map<std::string, int> by_type;
@@ -103,17 +78,6 @@ std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
     throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
                      std::string(e.what()) + " (from solver.petsc_options and --petsc)");
   }
-}
-
-std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,
-                                             const std::string& petsc_options) {
-  auto r = std::make_unique<InProcessRun>();
-  r->loaded = load_case(case_file, log);
-  auto solver = make_run_solver(*r->loaded.model, log, petsc_options);
-  Timings timings;
-  r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states);
-  r->solver_stats = solver->stats();
-  return r;
 }
 
 }  // namespace hencky

@@ -1,28 +1,15 @@
 #pragma once
-// Loading a case and its mesh into a Model: what `hencky run` and `hencky check` share, and
-// what tests use to run a case in-process and look at the final state.
-#include <filesystem>
+// What `hencky run` and `hencky check` share once a model is loaded (input/load_case.hpp):
+// its description for the log, and the linear solver of a run.
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "io/case.hpp"
-#include "io/log.hpp"
+#include "core/log.hpp"
 #include "solve/analysis.hpp"
 #include "solve/model.hpp"
 
 namespace hencky {
-
-struct LoadedCase {
-  std::unique_ptr<Case> spec;    ///< heap-held: the model keeps pointers into it
-  std::unique_ptr<Model> model;
-  double mesh_seconds = 0, setup_seconds = 0;
-};
-
-/// Reads the case, reads (or meshes) its mesh and binds them. Throws InputError.
-LoadedCase load_case(const std::filesystem::path& case_file, Log& log);
-/// The same for a case already read: reads (or meshes) its mesh and binds them.
-LoadedCase load_case(std::unique_ptr<Case> spec, Log& log);
 
 /// "1865 nodes, 320 elements (320 20-node hexahedron)"
 std::string describe_mesh(const Mesh& mesh);
@@ -36,26 +23,5 @@ std::vector<std::string> describe_contact(const Model& model);
 /// (Model::hold_points). Collective.
 std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options = "");
-
-/// Keeps the reports and the last committed state (for tests and tools).
-class KeepLastState final : public StepObserver {
- public:
-  void step_done(const StepReport& report, const State& state, const RecoveredFields&) override {
-    reports.push_back(report);
-    last = state;
-  }
-  std::vector<StepReport> reports;
-  State last;
-};
-
-/// Runs a case in-process with the direct solver (or the case's choice), no files written.
-struct InProcessRun {
-  LoadedCase loaded;
-  AnalysisResult result;
-  KeepLastState states;
-  LinearSolverStats solver_stats;  ///< analyses, factorizations, solves of the run
-};
-std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,
-                                             const std::string& petsc_options = "");
 
 }  // namespace hencky

@@ -7,9 +7,9 @@
 #include <unordered_map>
 
 #include "contact/stl_surface.hpp"
+#include "core/suggest.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
-#include "io/suggest.hpp"
 
 namespace hencky {
 

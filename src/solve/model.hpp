@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "contact/contact.hpp"
-#include "io/case.hpp"
-#include "io/log.hpp"
+#include "core/log.hpp"
 #include "linalg/assembler.hpp"
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
 #include "mesh/mesh.hpp"
+#include "spec/case.hpp"
 
 namespace hencky {
 

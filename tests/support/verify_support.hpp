@@ -31,8 +31,9 @@
 #include "fem/geometry.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
-#include "io/results.hpp"
+#include "input/load_case.hpp"
 #include "linalg/linear_solver.hpp"
+#include "output/results.hpp"
 #include "solve/driver.hpp"
 
 namespace hencky::verify {

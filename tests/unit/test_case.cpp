@@ -1,4 +1,4 @@
-// Reading and validating case files (io/case.hpp).
+// Reading and validating case files (input/case_reader.hpp).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "io/case.hpp"
+#include "input/case_reader.hpp"
 
 namespace hencky {
 namespace {

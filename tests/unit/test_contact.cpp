@@ -6,7 +6,8 @@
 
 #include "contact/contact.hpp"
 #include "contact/rigid_surface.hpp"
-#include "io/results.hpp"
+#include "input/load_case.hpp"
+#include "output/results.hpp"
 #include "solve/contact_step.hpp"
 #include "solve/driver.hpp"
 #include "verify_support.hpp"

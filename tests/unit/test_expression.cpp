@@ -1,4 +1,4 @@
-// Expression (io/expression.hpp) and the suggestion helpers (io/suggest.hpp).
+// Expression (core/expression.hpp) and the suggestion helpers (core/suggest.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,8 +6,8 @@
 #include <numbers>
 #include <vector>
 
-#include "io/expression.hpp"
-#include "io/suggest.hpp"
+#include "core/expression.hpp"
+#include "core/suggest.hpp"
 
 namespace hencky {
 namespace {

@@ -8,10 +8,10 @@
 #include <random>
 
 #include "core/error.hpp"
-#include "io/case.hpp"
-#include "io/gmsh_reader.hpp"
-#include "io/log.hpp"
-#include "io/msh_reader.hpp"
+#include "core/log.hpp"
+#include "input/case_reader.hpp"
+#include "input/gmsh_reader.hpp"
+#include "input/msh_reader.hpp"
 #include "solve/model.hpp"
 
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <functional>
 
-#include "io/gmsh_reader.hpp"
+#include "input/gmsh_reader.hpp"
 #include "parallel/partition.hpp"
 #include "verify_support.hpp"
 

@@ -5,6 +5,7 @@
 // Set HENCKY_VTU_TEST_OUTDIR=dir to keep the written files (one per cell type, a mixed file
 // and a .pvd) for a check with ParaView: pvpython scripts/check_vtu.py dir/cell_wedge6.vtu ...
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdint>
@@ -16,9 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "io/vtu_writer.hpp"
-
-#include <unistd.h>
+#include "output/vtu_writer.hpp"
 
 namespace hencky {
 namespace {

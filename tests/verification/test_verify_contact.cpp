@@ -82,7 +82,7 @@
 #include <numbers>
 
 #include "contact/contact.hpp"
-#include "io/results.hpp"
+#include "output/results.hpp"
 #include "stl_support.hpp"
 #include "verify_support.hpp"
 

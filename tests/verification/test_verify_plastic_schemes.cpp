@@ -62,7 +62,7 @@
 
 #include <chrono>
 
-#include "io/results.hpp"
+#include "output/results.hpp"
 #include "verify_support.hpp"
 
 namespace hencky::verify {

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/gmsh_reader.hpp"
+#include "input/gmsh_reader.hpp"
 #include "mesh/mesh.hpp"
 
 namespace hencky {

@@ -1,8 +1,9 @@
 #pragma once
-// The case file (YAML, see docs/case-reference.md and the contract CASE_FORMAT.md) read and
-// validated into plain typed structs. Everything that can be checked without the mesh is
-// checked here; region names, probe points and temperature-file node tags are checked against
-// the mesh later (use io/suggest.hpp for the messages and the *_where locations below).
+// The case (docs/case-reference.md and the contract CASE_FORMAT.md) as plain typed structs:
+// what every layer above reads. input/case_reader.hpp reads a case file into them and checks
+// everything that can be checked without the mesh; region names, probe points and
+// temperature-file node tags are checked against the mesh later (use core/suggest.hpp for the
+// messages and the *_where locations below).
 #include <array>
 #include <filesystem>
 #include <optional>
@@ -10,8 +11,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/expression.hpp"
 #include "core/types.hpp"
-#include "io/expression.hpp"
 
 namespace hencky {
 
@@ -53,8 +54,8 @@ struct CurveSpec {
   enum class Form { uniaxial, plastic, intensity };
   struct Table {
     double temperature = 0;
-    std::vector<double> strain, stress;  ///< same length >= 1; strain strictly increasing
-    SourceLocation where;                ///< the entry curve.table[j]
+    std::vector<double> strain, stress;       ///< same length >= 1; strain strictly increasing
+    SourceLocation where;                     ///< the entry curve.table[j]
     std::vector<SourceLocation> point_where;  ///< location of each strain value
   };
   Kind kind = Kind::table;
@@ -63,7 +64,7 @@ struct CurveSpec {
   PropertyTable yield;        ///< perfect, linear, ramberg_osgood: initial yield stress (> 0)
   PropertyTable hardening;    ///< linear: plastic modulus dσ/dε^p (may be negative: softening)
   double ro_E = 0, ro_alpha = 0, ro_n = 0;  ///< ramberg_osgood: ε = σ/E + α(σ_y/E)(σ/σ_y)^n
-  SourceLocation where;       ///< the curve (or perfect / linear / ramberg_osgood) entry
+  SourceLocation where;  ///< the curve (or perfect / linear / ramberg_osgood) entry
 };
 
 struct PlasticitySpec {
@@ -204,10 +205,10 @@ struct SolverSpec {
   std::string curve_form = "stress";  ///< stress | strain (variable-stiffness only)
   StepTimes times;                    ///< end times of the steps
   int max_iterations = 50;
-  double tolerance = 1e-6;         ///< 0 < tolerance < 1
-  double relaxation = 1.0;         ///< > 0
-  double correction = 1.0;         ///< >= 0; 0 turns the error correction off
-  int cutback = 4;                 ///< >= 0
+  double tolerance = 1e-6;  ///< 0 < tolerance < 1
+  double relaxation = 1.0;  ///< > 0
+  double correction = 1.0;  ///< >= 0; 0 turns the error correction off
+  int cutback = 4;          ///< >= 0
   /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
   /// mesh's bounding box stops the run: the body has become a mechanism. > 0.
   double mechanism_limit = 0.05;
@@ -254,11 +255,5 @@ struct Case {
   SolverSpec solver;
   OutputSpec output;
 };
-
-/// Reads and validates a case file. Every problem is an InputError naming the file, line,
-/// column and dotted key path, what was expected and what was found, with a suggestion for
-/// misspelt keys and values. Paths in the result are absolute (relative ones are taken from
-/// the case file's folder). Does not read the mesh.
-Case read_case(const std::filesystem::path& case_file);
 
 }  // namespace hencky

@@ -1,4 +1,4 @@
-#include "io/expression.hpp"
+#include "core/expression.hpp"
 
 #include <muParser.h>
 
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <vector>
 
-#include "io/suggest.hpp"
+#include "core/suggest.hpp"
 
 namespace hencky {
 

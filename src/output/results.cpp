@@ -1,4 +1,4 @@
-#include "io/results.hpp"
+#include "output/results.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -274,8 +274,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
     eps_p.resize(6 * static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < 6; ++c)
-        eps_p[6 * i + c] =
-            fields.nodal_plastic_strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
+        eps_p[6 * i + c] = fields.nodal_plastic_strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
   }
   const NodalContact contact = nodal_contact(model_, state);
   const auto or_zero = [&](const std::vector<double>& v) {

@@ -37,8 +37,9 @@ struct VtuIntField {
 /// reader never sees a partial file.
 /// Throws std::invalid_argument on inconsistent input (field sizes, node indices out of range)
 /// and std::runtime_error naming the path on I/O failure.
-void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points, const CellSet& cells,
-               std::span<const VtuField> point_fields, std::span<const VtuField> cell_fields,
+void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
+               const CellSet& cells, std::span<const VtuField> point_fields,
+               std::span<const VtuField> cell_fields,
                std::span<const VtuIntField> cell_int_fields = {});
 
 /// A ParaView collection (.pvd) of time steps: <DataSet timestep="t" file="step.vtu"/>.

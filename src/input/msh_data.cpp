@@ -1,4 +1,4 @@
-#include "io/msh_data.hpp"
+#include "input/msh_data.hpp"
 
 #include <algorithm>
 #include <unordered_map>
@@ -11,67 +11,156 @@ namespace {
 // The MSH element types of Gmsh 4.8 with a fixed node count (its getElementProperties):
 // number, nodes, dimension, name. Sorted by number.
 constexpr GmshElementType element_types[] = {
-    {1, 2, 1, "Line 2"}, {2, 3, 2, "Triangle 3"}, {3, 4, 2, "Quadrilateral 4"},
-    {4, 4, 3, "Tetrahedron 4"}, {5, 8, 3, "Hexahedron 8"}, {6, 6, 3, "Prism 6"},
-    {7, 5, 3, "Pyramid 5"}, {8, 3, 1, "Line 3"}, {9, 6, 2, "Triangle 6"},
-    {10, 9, 2, "Quadrilateral 9"}, {11, 10, 3, "Tetrahedron 10"}, {12, 27, 3, "Hexahedron 27"},
-    {13, 18, 3, "Prism 18"}, {14, 14, 3, "Pyramid 14"}, {15, 1, 0, "Point"},
-    {16, 8, 2, "Quadrilateral 8"}, {17, 20, 3, "Hexahedron 20"}, {18, 15, 3, "Prism 15"},
-    {19, 13, 3, "Pyramid 13"}, {20, 9, 2, "Triangle 9"}, {21, 10, 2, "Triangle 10"},
-    {22, 12, 2, "Triangle 12"}, {23, 15, 2, "Triangle 15"}, {24, 15, 2, "Triangle 15I"},
-    {25, 21, 2, "Triangle 21"}, {26, 4, 1, "Line 4"}, {27, 5, 1, "Line 5"}, {28, 6, 1, "Line 6"},
-    {29, 20, 3, "Tetrahedron 20"}, {30, 35, 3, "Tetrahedron 35"}, {31, 56, 3, "Tetrahedron 56"},
-    {32, 22, 3, "Tetrahedron 22"}, {33, 28, 3, "Tetrahedron 28"},
-    {36, 16, 2, "Quadrilateral 16"}, {37, 25, 2, "Quadrilateral 25"},
-    {38, 36, 2, "Quadrilateral 36"}, {39, 12, 2, "Quadrilateral 12"},
-    {40, 16, 2, "Quadrilateral 16I"}, {41, 20, 2, "Quadrilateral 20"},
-    {42, 28, 2, "Triangle 28"}, {43, 36, 2, "Triangle 36"}, {44, 45, 2, "Triangle 45"},
-    {45, 55, 2, "Triangle 55"}, {46, 66, 2, "Triangle 66"}, {47, 49, 2, "Quadrilateral 49"},
-    {48, 64, 2, "Quadrilateral 64"}, {49, 81, 2, "Quadrilateral 81"},
-    {50, 100, 2, "Quadrilateral 100"}, {51, 121, 2, "Quadrilateral 121"},
-    {52, 18, 2, "Triangle 18"}, {53, 21, 2, "Triangle 21I"}, {54, 24, 2, "Triangle 24"},
-    {55, 27, 2, "Triangle 27"}, {56, 30, 2, "Triangle 30"}, {57, 24, 2, "Quadrilateral 24"},
-    {58, 28, 2, "Quadrilateral 28"}, {59, 32, 2, "Quadrilateral 32"},
-    {60, 36, 2, "Quadrilateral 36I"}, {61, 40, 2, "Quadrilateral 40"}, {62, 7, 1, "Line 7"},
-    {63, 8, 1, "Line 8"}, {64, 9, 1, "Line 9"}, {65, 10, 1, "Line 10"}, {66, 11, 1, "Line 11"},
-    {71, 84, 3, "Tetrahedron 84"}, {72, 120, 3, "Tetrahedron 120"},
-    {73, 165, 3, "Tetrahedron 165"}, {74, 220, 3, "Tetrahedron 220"},
-    {75, 286, 3, "Tetrahedron 286"}, {79, 34, 3, "Tetrahedron 34"},
-    {80, 40, 3, "Tetrahedron 40"}, {81, 46, 3, "Tetrahedron 46"}, {82, 52, 3, "Tetrahedron 52"},
-    {83, 58, 3, "Tetrahedron 58"}, {84, 1, 1, "Line 1"}, {85, 1, 2, "Triangle 1"},
-    {86, 1, 2, "Quadrilateral 1"}, {87, 1, 3, "Tetrahedron 1"}, {88, 1, 3, "Hexahedron 1"},
-    {89, 1, 3, "Prism 1"}, {92, 64, 3, "Hexahedron 64"}, {93, 125, 3, "Hexahedron 125"},
-    {94, 216, 3, "Hexahedron 216"}, {95, 343, 3, "Hexahedron 343"},
-    {96, 512, 3, "Hexahedron 512"}, {97, 729, 3, "Hexahedron 729"},
-    {98, 1000, 3, "Hexahedron 1000"}, {99, 32, 3, "Hexahedron 32"},
-    {100, 44, 3, "Hexahedron 44"}, {101, 56, 3, "Hexahedron 56"}, {102, 68, 3, "Hexahedron 68"},
-    {103, 80, 3, "Hexahedron 80"}, {104, 92, 3, "Hexahedron 92"},
-    {105, 104, 3, "Hexahedron 104"}, {118, 30, 3, "Pyramid 30"}, {119, 55, 3, "Pyramid 55"},
-    {120, 91, 3, "Pyramid 91"}, {121, 140, 3, "Pyramid 140"}, {122, 204, 3, "Pyramid 204"},
-    {123, 285, 3, "Pyramid 285"}, {124, 385, 3, "Pyramid 385"}, {125, 21, 3, "Pyramid 21"},
-    {126, 29, 3, "Pyramid 29"}, {127, 37, 3, "Pyramid 37"}, {128, 45, 3, "Pyramid 45"},
-    {129, 53, 3, "Pyramid 53"}, {130, 61, 3, "Pyramid 61"}, {131, 69, 3, "Pyramid 69"},
-    {132, 1, 3, "Pyramid 1"}, {137, 16, 3, "Tetrahedron 16"},
+    {1, 2, 1, "Line 2"},
+    {2, 3, 2, "Triangle 3"},
+    {3, 4, 2, "Quadrilateral 4"},
+    {4, 4, 3, "Tetrahedron 4"},
+    {5, 8, 3, "Hexahedron 8"},
+    {6, 6, 3, "Prism 6"},
+    {7, 5, 3, "Pyramid 5"},
+    {8, 3, 1, "Line 3"},
+    {9, 6, 2, "Triangle 6"},
+    {10, 9, 2, "Quadrilateral 9"},
+    {11, 10, 3, "Tetrahedron 10"},
+    {12, 27, 3, "Hexahedron 27"},
+    {13, 18, 3, "Prism 18"},
+    {14, 14, 3, "Pyramid 14"},
+    {15, 1, 0, "Point"},
+    {16, 8, 2, "Quadrilateral 8"},
+    {17, 20, 3, "Hexahedron 20"},
+    {18, 15, 3, "Prism 15"},
+    {19, 13, 3, "Pyramid 13"},
+    {20, 9, 2, "Triangle 9"},
+    {21, 10, 2, "Triangle 10"},
+    {22, 12, 2, "Triangle 12"},
+    {23, 15, 2, "Triangle 15"},
+    {24, 15, 2, "Triangle 15I"},
+    {25, 21, 2, "Triangle 21"},
+    {26, 4, 1, "Line 4"},
+    {27, 5, 1, "Line 5"},
+    {28, 6, 1, "Line 6"},
+    {29, 20, 3, "Tetrahedron 20"},
+    {30, 35, 3, "Tetrahedron 35"},
+    {31, 56, 3, "Tetrahedron 56"},
+    {32, 22, 3, "Tetrahedron 22"},
+    {33, 28, 3, "Tetrahedron 28"},
+    {36, 16, 2, "Quadrilateral 16"},
+    {37, 25, 2, "Quadrilateral 25"},
+    {38, 36, 2, "Quadrilateral 36"},
+    {39, 12, 2, "Quadrilateral 12"},
+    {40, 16, 2, "Quadrilateral 16I"},
+    {41, 20, 2, "Quadrilateral 20"},
+    {42, 28, 2, "Triangle 28"},
+    {43, 36, 2, "Triangle 36"},
+    {44, 45, 2, "Triangle 45"},
+    {45, 55, 2, "Triangle 55"},
+    {46, 66, 2, "Triangle 66"},
+    {47, 49, 2, "Quadrilateral 49"},
+    {48, 64, 2, "Quadrilateral 64"},
+    {49, 81, 2, "Quadrilateral 81"},
+    {50, 100, 2, "Quadrilateral 100"},
+    {51, 121, 2, "Quadrilateral 121"},
+    {52, 18, 2, "Triangle 18"},
+    {53, 21, 2, "Triangle 21I"},
+    {54, 24, 2, "Triangle 24"},
+    {55, 27, 2, "Triangle 27"},
+    {56, 30, 2, "Triangle 30"},
+    {57, 24, 2, "Quadrilateral 24"},
+    {58, 28, 2, "Quadrilateral 28"},
+    {59, 32, 2, "Quadrilateral 32"},
+    {60, 36, 2, "Quadrilateral 36I"},
+    {61, 40, 2, "Quadrilateral 40"},
+    {62, 7, 1, "Line 7"},
+    {63, 8, 1, "Line 8"},
+    {64, 9, 1, "Line 9"},
+    {65, 10, 1, "Line 10"},
+    {66, 11, 1, "Line 11"},
+    {71, 84, 3, "Tetrahedron 84"},
+    {72, 120, 3, "Tetrahedron 120"},
+    {73, 165, 3, "Tetrahedron 165"},
+    {74, 220, 3, "Tetrahedron 220"},
+    {75, 286, 3, "Tetrahedron 286"},
+    {79, 34, 3, "Tetrahedron 34"},
+    {80, 40, 3, "Tetrahedron 40"},
+    {81, 46, 3, "Tetrahedron 46"},
+    {82, 52, 3, "Tetrahedron 52"},
+    {83, 58, 3, "Tetrahedron 58"},
+    {84, 1, 1, "Line 1"},
+    {85, 1, 2, "Triangle 1"},
+    {86, 1, 2, "Quadrilateral 1"},
+    {87, 1, 3, "Tetrahedron 1"},
+    {88, 1, 3, "Hexahedron 1"},
+    {89, 1, 3, "Prism 1"},
+    {92, 64, 3, "Hexahedron 64"},
+    {93, 125, 3, "Hexahedron 125"},
+    {94, 216, 3, "Hexahedron 216"},
+    {95, 343, 3, "Hexahedron 343"},
+    {96, 512, 3, "Hexahedron 512"},
+    {97, 729, 3, "Hexahedron 729"},
+    {98, 1000, 3, "Hexahedron 1000"},
+    {99, 32, 3, "Hexahedron 32"},
+    {100, 44, 3, "Hexahedron 44"},
+    {101, 56, 3, "Hexahedron 56"},
+    {102, 68, 3, "Hexahedron 68"},
+    {103, 80, 3, "Hexahedron 80"},
+    {104, 92, 3, "Hexahedron 92"},
+    {105, 104, 3, "Hexahedron 104"},
+    {118, 30, 3, "Pyramid 30"},
+    {119, 55, 3, "Pyramid 55"},
+    {120, 91, 3, "Pyramid 91"},
+    {121, 140, 3, "Pyramid 140"},
+    {122, 204, 3, "Pyramid 204"},
+    {123, 285, 3, "Pyramid 285"},
+    {124, 385, 3, "Pyramid 385"},
+    {125, 21, 3, "Pyramid 21"},
+    {126, 29, 3, "Pyramid 29"},
+    {127, 37, 3, "Pyramid 37"},
+    {128, 45, 3, "Pyramid 45"},
+    {129, 53, 3, "Pyramid 53"},
+    {130, 61, 3, "Pyramid 61"},
+    {131, 69, 3, "Pyramid 69"},
+    {132, 1, 3, "Pyramid 1"},
+    {137, 16, 3, "Tetrahedron 16"},
 };
 
 bool volume_cell_type(int gmsh_type, CellType& t) {
   switch (gmsh_type) {
-    case 4: t = CellType::tet4; return true;
-    case 11: t = CellType::tet10; return true;
-    case 5: t = CellType::hex8; return true;
-    case 17: t = CellType::hex20; return true;
-    case 6: t = CellType::wedge6; return true;
-    default: return false;
+    case 4:
+      t = CellType::tet4;
+      return true;
+    case 11:
+      t = CellType::tet10;
+      return true;
+    case 5:
+      t = CellType::hex8;
+      return true;
+    case 17:
+      t = CellType::hex20;
+      return true;
+    case 6:
+      t = CellType::wedge6;
+      return true;
+    default:
+      return false;
   }
 }
 
 bool face_cell_type(int gmsh_type, CellType& t) {
   switch (gmsh_type) {
-    case 2: t = CellType::tri3; return true;
-    case 9: t = CellType::tri6; return true;
-    case 3: t = CellType::quad4; return true;
-    case 16: t = CellType::quad8; return true;
-    default: return false;
+    case 2:
+      t = CellType::tri3;
+      return true;
+    case 9:
+      t = CellType::tri6;
+      return true;
+    case 3:
+      t = CellType::quad4;
+      return true;
+    case 16:
+      t = CellType::quad8;
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -120,8 +209,7 @@ Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::str
     }
   auto group_name = [&](int dim, int tag) {
     auto it = data.physical_names.find({dim, tag});
-    return it == data.physical_names.end() || it->second.empty() ? std::to_string(tag)
-                                                                  : it->second;
+    return it == data.physical_names.end() || it->second.empty() ? std::to_string(tag) : it->second;
   };
   const auto blocks_of = blocks_by_entity(data);
   auto for_each_block = [&](int dim, int entity, auto&& f) {
@@ -185,8 +273,9 @@ Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::str
     }
   }
   if (mesh.cells.size() == 0) {
-    const bool any = std::any_of(data.blocks.begin(), data.blocks.end(),
-                                 [](const MshData::Block& b) { return b.dim == 3 && !b.tags.empty(); });
+    const bool any =
+        std::any_of(data.blocks.begin(), data.blocks.end(),
+                    [](const MshData::Block& b) { return b.dim == 3 && !b.tags.empty(); });
     throw fail(any ? "the mesh has no 3D elements in its physical volumes"
                    : "the mesh has no 3D elements (hencky needs a volume mesh)");
   }
@@ -204,8 +293,8 @@ Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::str
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::size_t gt = body_node_tags[order[i]];
     const std::size_t ci = file_node.at(gt);
-    mesh.x[i] = Vec3(data.coords[3 * ci], data.coords[3 * ci + 1], data.coords[3 * ci + 2]) *
-                options.scale;
+    mesh.x[i] =
+        Vec3(data.coords[3 * ci], data.coords[3 * ci + 1], data.coords[3 * ci + 2]) * options.scale;
     mesh.node_tag[i] = static_cast<long>(gt);
     node_index[gt] = static_cast<int>(i);
   }
@@ -232,9 +321,10 @@ Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::str
             const std::size_t gt = b.nodes[e * nn + a];
             auto it = node_index.find(gt);
             if (it == node_index.end())
-              throw fail("region '" + r.name + "': element " + std::to_string(b.tags[e]) +
-                         " has node " + std::to_string(gt) +
-                         " which is not a node of the volume mesh (the surface is not on the body)");
+              throw fail(
+                  "region '" + r.name + "': element " + std::to_string(b.tags[e]) + " has node " +
+                  std::to_string(gt) +
+                  " which is not a node of the volume mesh (the surface is not on the body)");
             if (a < max_cell_nodes) local[a] = it->second;
             r.nodes.push_back(it->second);
           }

@@ -1,4 +1,4 @@
-#include "io/vtu_writer.hpp"
+#include "output/vtu_writer.hpp"
 
 #include <array>
 #include <bit>
@@ -29,7 +29,7 @@ constexpr std::array<int, 8> perm_hex8{0, 1, 2, 3, 4, 5, 6, 7};
 // Gmsh edge nodes 8..19 on (0,1),(0,3),(0,4),(1,2),(1,5),(2,3),(2,6),(3,7),(4,5),(4,7),(5,6),(6,7);
 // VTK: 8..11 on (0,1),(1,2),(2,3),(3,0), 12..15 on (4,5),(5,6),(6,7),(7,4),
 // 16..19 on (0,4),(1,5),(2,6),(3,7).
-constexpr std::array<int, 20> perm_hex20{0, 1, 2, 3, 4, 5, 6, 7, 8, 11,
+constexpr std::array<int, 20> perm_hex20{0,  1, 2,  3,  4,  5,  6,  7,  8,  11,
                                          13, 9, 16, 18, 19, 17, 10, 12, 14, 15};
 // Gmsh: triangle (0,1,2) at the bottom, counter-clockwise seen from the top face (3,4,5).
 // VTK: the right-hand normal of (0,1,2) points away from (3,4,5) (parametric coordinates of
@@ -159,12 +159,23 @@ std::string xml_escape(std::string_view s) {
   r.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': r += "&amp;"; break;
-      case '<': r += "&lt;"; break;
-      case '>': r += "&gt;"; break;
-      case '"': r += "&quot;"; break;
-      case '\'': r += "&apos;"; break;
-      default: r += c;
+      case '&':
+        r += "&amp;";
+        break;
+      case '<':
+        r += "&lt;";
+        break;
+      case '>':
+        r += "&gt;";
+        break;
+      case '"':
+        r += "&quot;";
+        break;
+      case '\'':
+        r += "&apos;";
+        break;
+      default:
+        r += c;
     }
   }
   return r;
@@ -193,8 +204,8 @@ void check_field(const VtuField& f, std::size_t n_entities, const char* what) {
     throw std::invalid_argument("vtu writer: " + std::string(what) + " field '" + f.name +
                                 "' has " + std::to_string(f.n_components) + " components");
   if (f.data.size() != n_entities * static_cast<std::size_t>(f.n_components))
-    throw std::invalid_argument("vtu writer: " + std::string(what) + " field '" + f.name + "' has " +
-                                std::to_string(f.data.size()) + " values, expected " +
+    throw std::invalid_argument("vtu writer: " + std::string(what) + " field '" + f.name +
+                                "' has " + std::to_string(f.data.size()) + " values, expected " +
                                 std::to_string(n_entities) + " x " +
                                 std::to_string(f.n_components));
 }
@@ -207,12 +218,17 @@ std::string format_double(double v) {
 
 }  // namespace
 
-std::span<const int> gmsh_to_vtk_permutation(CellType t) { return info(t).perm; }
+std::span<const int> gmsh_to_vtk_permutation(CellType t) {
+  return info(t).perm;
+}
 
-int vtk_cell_type(CellType t) { return info(t).vtk_type; }
+int vtk_cell_type(CellType t) {
+  return info(t).vtk_type;
+}
 
-void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points, const CellSet& cells,
-               std::span<const VtuField> point_fields, std::span<const VtuField> cell_fields,
+void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
+               const CellSet& cells, std::span<const VtuField> point_fields,
+               std::span<const VtuField> cell_fields,
                std::span<const VtuIntField> cell_int_fields) {
   const std::size_t n_points = points.size();
   const std::size_t n_cells = static_cast<std::size_t>(cells.size());
@@ -234,7 +250,8 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points, 
   std::uint64_t offset = 0;
   std::string xml;
   xml.reserve(4096);
-  xml += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
+  xml +=
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
   xml += byte_order();
   xml += "\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" +
          std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) + "\">\n";
@@ -252,7 +269,9 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points, 
   data_array(xml, offset, "Int64", "connectivity", 1, n_conn * sizeof(std::int64_t));
   data_array(xml, offset, "Int64", "offsets", 1, n_cells * sizeof(std::int64_t));
   data_array(xml, offset, "UInt8", "types", 1, n_cells * sizeof(std::uint8_t));
-  xml += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
+  xml +=
+      "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   "
+      "_";
 
   // ---- One pass over everything ----
   AtomicFile out(path);
@@ -302,7 +321,8 @@ PvdWriter::PvdWriter(std::filesystem::path pvd_path) : path_(std::move(pvd_path)
 
 void PvdWriter::add(double time, const std::string& vtu_file_name) {
   steps_.emplace_back(time, vtu_file_name);
-  std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"";
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"";
   xml += byte_order();
   xml += "\" header_type=\"UInt64\">\n  <Collection>\n";
   for (const auto& [t, file] : steps_)

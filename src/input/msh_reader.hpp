@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/msh_data.hpp"
+#include "input/msh_data.hpp"
 
 namespace hencky {
 

@@ -1,4 +1,4 @@
-#include "io/case.hpp"
+#include "input/case_reader.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-#include "io/suggest.hpp"
+#include "core/suggest.hpp"
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
 #include "parallel/mpi.hpp"
@@ -20,48 +20,6 @@
 namespace hencky {
 
 namespace fs = std::filesystem;
-
-// ---------------------------------------------------------------------------------------------
-// Small value types
-
-double PropertyTable::operator()(double T, bool* outside) const {
-  if (outside) *outside = false;
-  if (value.size() == 1 || temperature.size() != value.size()) return value.at(0);
-  if (T < temperature.front() || T > temperature.back()) {
-    if (outside) *outside = true;
-    return T < temperature.front() ? value.front() : value.back();
-  }
-  const auto it = std::upper_bound(temperature.begin(), temperature.end(), T);
-  if (it == temperature.end()) return value.back();  // T == last temperature
-  const std::size_t i = static_cast<std::size_t>(it - temperature.begin());  // >= 1
-  const double s = (T - temperature[i - 1]) / (temperature[i] - temperature[i - 1]);
-  return value[i - 1] + s * (value[i] - value[i - 1]);
-}
-
-double TemperatureFile::at(std::size_t row, double t) const {
-  const std::size_t n = times.size();
-  const double* v = values.data() + row * n;
-  if (n == 1 || t <= times.front()) return v[0];
-  if (t >= times.back()) return v[n - 1];
-  const auto it = std::upper_bound(times.begin(), times.end(), t);
-  const std::size_t j = static_cast<std::size_t>(it - times.begin());  // 1 <= j < n
-  const double s = (t - times[j - 1]) / (times[j] - times[j - 1]);
-  return v[j - 1] + s * (v[j] - v[j - 1]);
-}
-
-const char* to_string(BoundaryKind kind) {
-  switch (kind) {
-    case BoundaryKind::displacement:
-      return "displacement";
-    case BoundaryKind::pressure:
-      return "pressure";
-    case BoundaryKind::traction:
-      return "traction";
-    case BoundaryKind::force:
-      return "force";
-  }
-  return "?";
-}
 
 namespace {
 
@@ -92,8 +50,8 @@ const std::vector<std::string> boundary_keys = {"region", "displacement", "press
 const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force"};
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 const std::vector<std::string> solver_keys = {
-    "scheme",         "curve_form",      "steps",      "end",         "times",
-    "max_iterations", "tolerance",       "relaxation", "correction",  "cutback",
+    "scheme",         "curve_form",      "steps",      "end",          "times",
+    "max_iterations", "tolerance",       "relaxation", "correction",   "cutback",
     "linear",         "mechanism_limit", "predictor",  "acceleration", "petsc_options"};
 const std::vector<std::string> contact_keys = {"name",   "nodes",     "surface",
                                                "motion", "stiffness", "penetration"};
@@ -1066,12 +1024,13 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
       if (!valid_probe_name(c.name))
         r.fail(*x,
                "contact names may use letters, digits, '_' and '-' only (they become column "
-               "names), found '" + c.name + "'");
+               "names), found '" +
+                   c.name + "'");
     }
     if (auto prev = names.find(c.name); prev != names.end())
-      r.fail(m.has("name") ? *m.get("name") : item,
-             "contact name '" + c.name + "' is already used by contact[" +
-                 std::to_string(prev->second) + "]");
+      r.fail(m.has("name") ? *m.get("name") : item, "contact name '" + c.name +
+                                                        "' is already used by contact[" +
+                                                        std::to_string(prev->second) + "]");
     names.emplace(c.name, i);
     const Val nodes = m.require(r, "nodes",
                                 "the surface region of the body whose nodes may touch the rigid "
@@ -1093,8 +1052,8 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
       r.fail(surface, "expected one of 'plane', 'sphere', 'cylinder', 'mesh', found an empty map");
     if (given.size() > 1)
       throw InputError(r.at(sm.key_mark(given[1]), sm.get(given[1])->path),
-                       "a contact has one surface, found both '" + given[0] + "' and '" +
-                           given[1] + "'; write another contact entry");
+                       "a contact has one surface, found both '" + given[0] + "' and '" + given[1] +
+                           "'; write another contact entry");
     const Val g = *sm.get(given[0]);
     if (given[0] == "plane") {
       c.shape = ContactSpec::Shape::plane;
@@ -1140,8 +1099,10 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
       if (!is_auto) {
         if (!x->node.IsScalar() || !parse_double(x->node.Scalar(), k) || !std::isfinite(k) ||
             !(k > 0))
-          r.fail(*x, "expected 'auto' or a penalty stiffness > 0 (force per length, per node), "
-                     "found " + describe(x->node));
+          r.fail(*x,
+                 "expected 'auto' or a penalty stiffness > 0 (force per length, per node), "
+                 "found " +
+                     describe(x->node));
         c.stiffness = k;
       }
     }

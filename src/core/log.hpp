@@ -17,10 +17,15 @@ class Log {
 
   /// Progress and results for the terminal and the log.
   template <class... A>
-  void info(fmt::format_string<A...> f, A&&... a) { emit(fmt::format(f, std::forward<A>(a)...), false); }
+  void info(fmt::format_string<A...> f, A&&... a) {
+    emit(fmt::format(f, std::forward<A>(a)...), false);
+  }
   /// Details that only go to the log file (per-iteration figures, timings).
   template <class... A>
-  void detail(fmt::format_string<A...> f, A&&... a) { lines_.push_back(fmt::format(f, std::forward<A>(a)...)); flush(); }
+  void detail(fmt::format_string<A...> f, A&&... a) {
+    lines_.push_back(fmt::format(f, std::forward<A>(a)...));
+    flush();
+  }
   /// A warning, printed once however often it is raised.
   void warn(const std::string& text) { warn_once(text, text); }
   /// A warning printed only the first time `key` is raised (the text may vary, e.g. with values).
@@ -39,7 +44,9 @@ class Log {
     written_ = 0;
     flush();
   }
-  ~Log() { if (file_) std::fclose(file_); }
+  ~Log() {
+    if (file_) std::fclose(file_);
+  }
 
  private:
   void emit(const std::string& text, bool is_warning) {
@@ -49,7 +56,8 @@ class Log {
   }
   void flush() {
     if (!file_) return;
-    for (; written_ < lines_.size(); ++written_) std::fprintf(file_, "%s\n", lines_[written_].c_str());
+    for (; written_ < lines_.size(); ++written_)
+      std::fprintf(file_, "%s\n", lines_[written_].c_str());
     std::fflush(file_);
   }
   std::vector<std::string> lines_;

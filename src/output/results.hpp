@@ -8,7 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "io/vtu_writer.hpp"
+#include "output/vtu_writer.hpp"
 #include "solve/analysis.hpp"
 #include "solve/recovery.hpp"
 

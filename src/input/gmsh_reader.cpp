@@ -1,4 +1,4 @@
-#include "io/gmsh_reader.hpp"
+#include "input/gmsh_reader.hpp"
 
 #include <gmsh.h>
 #include <omp.h>
@@ -8,8 +8,8 @@
 #include <mutex>
 
 #include "core/error.hpp"
-#include "io/msh_data.hpp"
-#include "io/msh_reader.hpp"
+#include "input/msh_data.hpp"
+#include "input/msh_reader.hpp"
 
 namespace hencky {
 namespace {
@@ -101,8 +101,8 @@ MshData model_data() {
 
 /// Opens `file` in the Gmsh library, meshes it when it is a geometry, converts the element
 /// order when asked, and returns the model.
-MshData through_gmsh(const std::filesystem::path& file, bool geometry, const MeshReadOptions& options,
-                     std::vector<std::string>* gmsh_log) {
+MshData through_gmsh(const std::filesystem::path& file, bool geometry,
+                     const MeshReadOptions& options, std::vector<std::string>* gmsh_log) {
   const SourceLocation where{file.string(), 0, 0, ""};
   const std::function<InputError(const std::string&)> fail = [&](const std::string& msg) {
     return InputError(where, msg);
@@ -113,7 +113,8 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry, const Mes
     gmsh::open(file.string());
   } catch (...) {
     const std::string err = last_gmsh_error();
-    throw fail("Gmsh cannot read this file: " + (err.empty() ? "Gmsh could not process the file" : err));
+    throw fail("Gmsh cannot read this file: " +
+               (err.empty() ? "Gmsh could not process the file" : err));
   }
   try {
     std::vector<int> types;
@@ -135,7 +136,8 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry, const Mes
     throw;
   } catch (...) {
     const std::string err = last_gmsh_error();
-    throw fail("Gmsh failed to mesh or convert the model: " + (err.empty() ? "Gmsh could not process the file" : err));
+    throw fail("Gmsh failed to mesh or convert the model: " +
+               (err.empty() ? "Gmsh could not process the file" : err));
   }
 }
 
@@ -147,7 +149,8 @@ Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options
     throw InputError(SourceLocation{file.string(), 0, 0, ""}, "mesh file does not exist");
   std::string ext = file.extension().string();
   for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (ext == ".geo") return to_mesh(through_gmsh(file, true, options, gmsh_log), options, file.string());
+  if (ext == ".geo")
+    return to_mesh(through_gmsh(file, true, options, gmsh_log), options, file.string());
   // A .msh file is read by hencky's own reader, which refuses malformed files that would crash
   // Gmsh's. Only an order conversion needs the Gmsh library, and then only for a file that
   // reader accepted. (Gmsh's conversion renumbers the mid-edge nodes even of a file that has

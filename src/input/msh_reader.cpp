@@ -1,4 +1,4 @@
-#include "io/msh_reader.hpp"
+#include "input/msh_reader.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -33,14 +33,17 @@ class Parser {
       if (pos_ >= s_.size()) break;
       const std::size_t start = pos_;
       const std::string_view section = token();
-      if (section.empty() || section[0] != '$') throw error(start, "expected a section ($Nodes, $Elements, ...), found '" + std::string(section.substr(0, 40)) + "'");
+      if (section.empty() || section[0] != '$')
+        throw error(start, "expected a section ($Nodes, $Elements, ...), found '" +
+                               std::string(section.substr(0, 40)) + "'");
       if (section == "$PhysicalNames") {
         read_physical_names();
       } else if (section == "$Entities" && version_ >= 4) {
         read_entities();
       } else if (section == "$PartitionedEntities") {
-        throw error(start, "partitioned meshes are not read: save the mesh without partitions "
-                           "(Mesh.PartitionSplitMeshFiles = 0, no -part)");
+        throw error(start,
+                    "partitioned meshes are not read: save the mesh without partitions "
+                    "(Mesh.PartitionSplitMeshFiles = 0, no -part)");
       } else if (section == "$Nodes") {
         if (nodes) throw error(start, "a second $Nodes section");
         version_ >= 4 ? read_nodes4() : read_nodes2();
@@ -69,20 +72,23 @@ class Parser {
     if (binary_ && at > binary_start_) {
       where = "byte " + std::to_string(at) + ": ";
     } else {
-      w.line = 1 + static_cast<int>(std::count(s_.begin(), s_.begin() + std::min(at, s_.size()), '\n'));
+      w.line =
+          1 + static_cast<int>(std::count(s_.begin(), s_.begin() + std::min(at, s_.size()), '\n'));
     }
     return InputError(w, "not a valid Gmsh mesh file: " + where + what);
   }
 
   // ---- ASCII tokens -----------------------------------------------------------------------
   void skip_space() {
-    while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n'))
+    while (pos_ < s_.size() &&
+           (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n'))
       ++pos_;
   }
   std::string_view token() {
     skip_space();
     const std::size_t b = pos_;
-    while (pos_ < s_.size() && !(s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n'))
+    while (pos_ < s_.size() &&
+           !(s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\r' || s_[pos_] == '\n'))
       ++pos_;
     return s_.substr(b, pos_ - b);
   }
@@ -97,7 +103,8 @@ class Parser {
     if (ec != std::errc() || end != t.data() + t.size()) {
       std::string hint;
       if constexpr (std::is_unsigned_v<T>) hint = " (a non-negative integer)";
-      throw error(at, std::string(what) + hint + " expected, found '" + std::string(t.substr(0, 40)) + "'");
+      throw error(
+          at, std::string(what) + hint + " expected, found '" + std::string(t.substr(0, 40)) + "'");
     }
     return v;
   }
@@ -133,7 +140,9 @@ class Parser {
     if (pos_ < s_.size() && s_[pos_] == '\n') ++pos_;
   }
   // One value in the file's own encoding: text or binary.
-  std::size_t tag_or_count(const char* what) { return binary_ ? bin<std::size_t>(what) : count(what); }
+  std::size_t tag_or_count(const char* what) {
+    return binary_ ? bin<std::size_t>(what) : count(what);
+  }
   int int_value(const char* what) { return binary_ ? bin<int>(what) : integer(what); }
   double real_value(const char* what) {
     const std::size_t at = pos_;
@@ -148,14 +157,16 @@ class Parser {
     const std::string_view t = token();
     if (t != word)
       throw error(at, "expected " + std::string(word) + ", found " +
-                          (t.empty() ? std::string("the end of the file") : "'" + std::string(t.substr(0, 40)) + "'") +
+                          (t.empty() ? std::string("the end of the file")
+                                     : "'" + std::string(t.substr(0, 40)) + "'") +
                           " (do the counts announced in the section agree with its content?)");
   }
   void expect_end(std::string_view section) { expect("$End" + std::string(section.substr(1))); }
   void skip_section(std::size_t start, std::string_view section) {
     const std::string end = "$End" + std::string(section.substr(1));
     const std::size_t at = s_.find(end, pos_);
-    if (at == std::string_view::npos) throw error(start, "section " + std::string(section) + " has no " + end);
+    if (at == std::string_view::npos)
+      throw error(start, "section " + std::string(section) + " has no " + end);
     pos_ = at + end.size();
   }
 
@@ -163,20 +174,31 @@ class Parser {
     skip_space();
     const std::size_t at = pos_;
     if (token() != "$MeshFormat")
-      throw error(at, "the file does not start with $MeshFormat (a Gmsh .msh file of format 2 or 4 does)");
+      throw error(
+          at, "the file does not start with $MeshFormat (a Gmsh .msh file of format 2 or 4 does)");
     const std::size_t vat = (skip_space(), pos_);
     const std::string_view v = token();
-    if (v == "2" || v == "2.0" || v == "2.1" || v == "2.2") version_ = 2;
-    else if (v == "4" || v == "4.0") version_ = 4.0;
-    else if (v == "4.1") version_ = 4.1;
-    else throw error(vat, "MSH format version '" + std::string(v.substr(0, 20)) + "' is not read (2.2, 4.0 and 4.1 are): save the mesh as 4.1");
+    if (v == "2" || v == "2.0" || v == "2.1" || v == "2.2")
+      version_ = 2;
+    else if (v == "4" || v == "4.0")
+      version_ = 4.0;
+    else if (v == "4.1")
+      version_ = 4.1;
+    else
+      throw error(vat, "MSH format version '" + std::string(v.substr(0, 20)) +
+                           "' is not read (2.2, 4.0 and 4.1 are): save the mesh as 4.1");
     const int file_type = integer("the file type (0 ASCII, 1 binary)");
     const int data_size = integer("the data size");
-    if (file_type != 0 && file_type != 1) throw error(vat, "file type must be 0 (ASCII) or 1 (binary)");
+    if (file_type != 0 && file_type != 1)
+      throw error(vat, "file type must be 0 (ASCII) or 1 (binary)");
     binary_ = file_type == 1;
     if (binary_) {
-      if (version_ == 4.0) throw error(vat, "binary MSH 4.0 is not read (Gmsh writes 4.0 in ASCII only): save the mesh as 4.1");
-      if (data_size != 8) throw error(vat, "binary data size " + std::to_string(data_size) + " is not read (8 is)");
+      if (version_ == 4.0)
+        throw error(
+            vat,
+            "binary MSH 4.0 is not read (Gmsh writes 4.0 in ASCII only): save the mesh as 4.1");
+      if (data_size != 8)
+        throw error(vat, "binary data size " + std::to_string(data_size) + " is not read (8 is)");
       while (pos_ < s_.size() && s_[pos_] != '\n') ++pos_;  // the rest of the version line
       ++pos_;
       binary_start_ = pos_;
@@ -222,14 +244,18 @@ class Parser {
         const int box = (dim == 0 && version_ == 4.1) ? 3 : 6;
         for (int k = 0; k < box; ++k) real_value("an entity's coordinates");
         const std::size_t n_phys = tag_or_count("a number of physical tags");
-        if (binary_) need(n_phys, sizeof(int), "an entity's physical tags");
-        else need(n_phys, 2, "an entity's physical tags");
+        if (binary_)
+          need(n_phys, sizeof(int), "an entity's physical tags");
+        else
+          need(n_phys, 2, "an entity's physical tags");
         std::vector<int> phys;
         for (std::size_t k = 0; k < n_phys; ++k) phys.push_back(int_value("a physical tag"));
         if (dim > 0) {
           const std::size_t n_bound = tag_or_count("a number of bounding entities");
-          if (binary_) need(n_bound, sizeof(int), "an entity's bounding entities");
-          else need(n_bound, 2, "an entity's bounding entities");
+          if (binary_)
+            need(n_bound, sizeof(int), "an entity's bounding entities");
+          else
+            need(n_bound, 2, "an entity's bounding entities");
           for (std::size_t k = 0; k < n_bound; ++k) int_value("a bounding entity");
         }
         add_entity(dim, tag, std::move(phys));
@@ -263,7 +289,8 @@ class Parser {
     to_binary_data();
     const std::size_t n_blocks = tag_or_count("the number of node blocks");
     const std::size_t n_nodes = tag_or_count("the number of nodes");
-    if (version_ == 4.1) tag_or_count("the smallest node tag"), tag_or_count("the largest node tag");
+    if (version_ == 4.1)
+      tag_or_count("the smallest node tag"), tag_or_count("the largest node tag");
     need(n_nodes, binary_ ? sizeof(std::size_t) + 3 * sizeof(double) : 8, "$Nodes");
     need(n_blocks, binary_ ? 3 * sizeof(int) + sizeof(std::size_t) : 8, "$Nodes");
     d_.node_tags.reserve(n_nodes);
@@ -271,12 +298,16 @@ class Parser {
     for (std::size_t b = 0; b < n_blocks; ++b) {
       const std::size_t block_at = (skip_space_if_text(), pos_);
       int dim = 0;
-      if (version_ == 4.1) dim = int_value("a node block's entity dimension"), int_value("a node block's entity tag");
-      else int_value("a node block's entity tag"), dim = int_value("a node block's entity dimension");
+      if (version_ == 4.1)
+        dim = int_value("a node block's entity dimension"), int_value("a node block's entity tag");
+      else
+        int_value("a node block's entity tag"), dim = int_value("a node block's entity dimension");
       const int parametric = int_value("a node block's parametric flag");
       const std::size_t n = tag_or_count("a node block's size");
-      if (dim < 0 || dim > 3) throw error(block_at, "node block of an entity of dimension " + std::to_string(dim));
-      if (parametric != 0 && parametric != 1) throw error(block_at, "parametric flag must be 0 or 1");
+      if (dim < 0 || dim > 3)
+        throw error(block_at, "node block of an entity of dimension " + std::to_string(dim));
+      if (parametric != 0 && parametric != 1)
+        throw error(block_at, "parametric flag must be 0 or 1");
       if (n > n_nodes - d_.node_tags.size())
         throw error(block_at, "the node blocks hold more nodes than the $Nodes header announces (" +
                                   std::to_string(n_nodes) + ")");
@@ -342,24 +373,31 @@ class Parser {
     to_binary_data();
     const std::size_t n_blocks = tag_or_count("the number of element blocks");
     const std::size_t n_elements = tag_or_count("the number of elements");
-    if (version_ == 4.1) tag_or_count("the smallest element tag"), tag_or_count("the largest element tag");
+    if (version_ == 4.1)
+      tag_or_count("the smallest element tag"), tag_or_count("the largest element tag");
     need(n_blocks, binary_ ? 3 * sizeof(int) + sizeof(std::size_t) : 8, "$Elements");
     std::size_t seen = 0;
     std::vector<std::size_t> values;
     for (std::size_t b = 0; b < n_blocks; ++b) {
       const std::size_t block_at = (skip_space_if_text(), pos_);
       int dim = 0, entity = 0;
-      if (version_ == 4.1) dim = int_value("an element block's entity dimension"), entity = int_value("an element block's entity tag");
-      else entity = int_value("an element block's entity tag"), dim = int_value("an element block's entity dimension");
+      if (version_ == 4.1)
+        dim = int_value("an element block's entity dimension"),
+        entity = int_value("an element block's entity tag");
+      else
+        entity = int_value("an element block's entity tag"),
+        dim = int_value("an element block's entity dimension");
       const int type = int_value("an element type");
       const std::size_t n = tag_or_count("an element block's size");
       const GmshElementType& t = known_type(block_at, type);
       if (t.dim != dim)
-        throw error(block_at, std::string(t.name) + " elements (dimension " + std::to_string(t.dim) +
+        throw error(block_at, std::string(t.name) + " elements (dimension " +
+                                  std::to_string(t.dim) +
                                   ") in a block of an entity of dimension " + std::to_string(dim));
       if (n > n_elements - seen)
-        throw error(block_at, "the element blocks hold more elements than the $Elements header announces (" +
-                                  std::to_string(n_elements) + ")");
+        throw error(block_at,
+                    "the element blocks hold more elements than the $Elements header announces (" +
+                        std::to_string(n_elements) + ")");
       seen += n;
       const std::size_t per = 1 + static_cast<std::size_t>(t.nodes);
       need(n, binary_ ? per * sizeof(std::size_t) : 2 * per, "an element block");
@@ -375,7 +413,8 @@ class Parser {
           pos_ += per * sizeof(std::size_t);
         } else {
           values[0] = positive_tag(at, "an element tag", 0);
-          for (std::size_t k = 1; k < per; ++k) values[k] = positive_tag(at, "a node tag", values[0]);
+          for (std::size_t k = 1; k < per; ++k)
+            values[k] = positive_tag(at, "a node tag", values[0]);
         }
         element_nodes(at, values[0], values.data() + 1, t.nodes, block);
       }
@@ -401,11 +440,13 @@ class Parser {
                    const std::vector<std::size_t>& element_nodes_) {
       const GmshElementType& t = known_type(at, type);
       if (tag <= 0) throw error(at, "element tag " + std::to_string(tag) + " (tags are positive)");
-      add_entity(t.dim, elementary, physical != 0 ? std::vector<int>{physical} : std::vector<int>{});
+      add_entity(t.dim, elementary,
+                 physical != 0 ? std::vector<int>{physical} : std::vector<int>{});
       if (!seen_tags.insert(static_cast<std::size_t>(tag)).second) return;
       auto [it, fresh] = block_of.emplace(std::tuple(t.dim, elementary, type), d_.blocks.size());
       if (fresh) d_.blocks.push_back({t.dim, elementary, type, {}, {}});
-      element_nodes(at, static_cast<std::size_t>(tag), element_nodes_.data(), t.nodes, d_.blocks[it->second]);
+      element_nodes(at, static_cast<std::size_t>(tag), element_nodes_.data(), t.nodes,
+                    d_.blocks[it->second]);
     };
     std::size_t done = 0;
     if (!binary_) {
@@ -415,7 +456,9 @@ class Parser {
         const int type = integer("an element type");
         const GmshElementType& t = known_type(at, type);
         const int n_tags = integer("a number of element tags");
-        if (n_tags < 0 || n_tags > 64) throw error(at, "element " + std::to_string(tag) + " has " + std::to_string(n_tags) + " tags");
+        if (n_tags < 0 || n_tags > 64)
+          throw error(
+              at, "element " + std::to_string(tag) + " has " + std::to_string(n_tags) + " tags");
         int physical = 0, elementary = 0;
         for (int k = 0; k < n_tags; ++k) {
           const int v = integer("an element tag");
@@ -426,7 +469,9 @@ class Parser {
         for (auto& v : nodes) {
           const std::size_t nat = pos_;
           const long long node = number<long long>("a node tag");
-          if (node <= 0) throw error(nat, "element " + std::to_string(tag) + " has node " + std::to_string(node) + ", which $Nodes does not define");
+          if (node <= 0)
+            throw error(nat, "element " + std::to_string(tag) + " has node " +
+                                 std::to_string(node) + ", which $Nodes does not define");
           v = static_cast<std::size_t>(node);
         }
         add(at, tag, type, physical, elementary, nodes);
@@ -442,7 +487,8 @@ class Parser {
       if (count_ <= 0 || static_cast<std::size_t>(count_) > n - done)
         throw error(at, "an element block of " + std::to_string(count_) + " elements where " +
                             std::to_string(n - done) + " remain of the $Elements header's count");
-      if (n_tags < 0 || n_tags > 64) throw error(at, "elements with " + std::to_string(n_tags) + " tags");
+      if (n_tags < 0 || n_tags > 64)
+        throw error(at, "elements with " + std::to_string(n_tags) + " tags");
       need(count_, (1 + n_tags + t.nodes) * sizeof(int), "an element block");
       for (int e = 0; e < count_; ++e, ++done) {
         const std::size_t eat = pos_;
@@ -456,7 +502,9 @@ class Parser {
         nodes.resize(t.nodes);
         for (auto& v : nodes) {
           const int node = bin<int>("a node tag");
-          if (node <= 0) throw error(eat, "element " + std::to_string(tag) + " has node " + std::to_string(node) + ", which $Nodes does not define");
+          if (node <= 0)
+            throw error(eat, "element " + std::to_string(tag) + " has node " +
+                                 std::to_string(node) + ", which $Nodes does not define");
           v = static_cast<std::size_t>(node);
         }
         add(eat, tag, type, physical, elementary, nodes);
@@ -477,7 +525,9 @@ class Parser {
 
 }  // namespace
 
-MshData parse_msh(std::string_view text, const std::string& name) { return Parser(text, name).parse(); }
+MshData parse_msh(std::string_view text, const std::string& name) {
+  return Parser(text, name).parse();
+}
 
 MshData read_msh(const std::filesystem::path& file) {
   const SourceLocation where{file.string(), 0, 0, ""};

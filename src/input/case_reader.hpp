@@ -1,0 +1,15 @@
+#pragma once
+// Reading a case file (YAML) into the plain structs of spec/case.hpp.
+#include <filesystem>
+
+#include "spec/case.hpp"
+
+namespace hencky {
+
+/// Reads and validates a case file. Every problem is an InputError naming the file, line,
+/// column and dotted key path, what was expected and what was found, with a suggestion for
+/// misspelt keys and values. Paths in the result are absolute (relative ones are taken from
+/// the case file's folder). Does not read the mesh.
+Case read_case(const std::filesystem::path& case_file);
+
+}  // namespace hencky

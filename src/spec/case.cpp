@@ -1,0 +1,46 @@
+#include "spec/case.hpp"
+
+#include <algorithm>
+
+namespace hencky {
+
+double PropertyTable::operator()(double T, bool* outside) const {
+  if (outside) *outside = false;
+  if (value.size() == 1 || temperature.size() != value.size()) return value.at(0);
+  if (T < temperature.front() || T > temperature.back()) {
+    if (outside) *outside = true;
+    return T < temperature.front() ? value.front() : value.back();
+  }
+  const auto it = std::upper_bound(temperature.begin(), temperature.end(), T);
+  if (it == temperature.end()) return value.back();  // T == last temperature
+  const std::size_t i = static_cast<std::size_t>(it - temperature.begin());  // >= 1
+  const double s = (T - temperature[i - 1]) / (temperature[i] - temperature[i - 1]);
+  return value[i - 1] + s * (value[i] - value[i - 1]);
+}
+
+double TemperatureFile::at(std::size_t row, double t) const {
+  const std::size_t n = times.size();
+  const double* v = values.data() + row * n;
+  if (n == 1 || t <= times.front()) return v[0];
+  if (t >= times.back()) return v[n - 1];
+  const auto it = std::upper_bound(times.begin(), times.end(), t);
+  const std::size_t j = static_cast<std::size_t>(it - times.begin());  // 1 <= j < n
+  const double s = (t - times[j - 1]) / (times[j] - times[j - 1]);
+  return v[j - 1] + s * (v[j] - v[j - 1]);
+}
+
+const char* to_string(BoundaryKind kind) {
+  switch (kind) {
+    case BoundaryKind::displacement:
+      return "displacement";
+    case BoundaryKind::pressure:
+      return "pressure";
+    case BoundaryKind::traction:
+      return "traction";
+    case BoundaryKind::force:
+      return "force";
+  }
+  return "?";
+}
+
+}  // namespace hencky
