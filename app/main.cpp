@@ -121,7 +121,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
-  std::unique_ptr<LinearSolver> solver;
+  std::unique_ptr<LinearSystem> solver;
   if (int code = together([&] { solver = make_run_solver(*l.model, log, petsc_options); }))
     return code;
   // Root writes every output (the other ranks' shares of the recovered fields are summed to

@@ -49,6 +49,20 @@ class SolveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A back end could not solve the linear system: the matrix is singular (a body not held) or
+/// not positive definite (a negative tangent), an iterative solve diverged, or the back end
+/// failed otherwise (out of memory). The step control
+/// maps these to its messages (solve/step_control.cpp).
+class LinearSystemError : public SolveError {
+ public:
+  enum class Kind { singular, not_positive_definite, diverged, failed };
+  LinearSystemError(Kind kind, const std::string& what) : SolveError(what), kind_(kind) {}
+  Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
+};
+
 /// The linear solver cannot be set up with the options it was given (a PETSc option that does
 /// not apply here): the user's input, not the matrix.
 class SolverOptionsError : public SolveError {

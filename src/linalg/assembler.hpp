@@ -35,18 +35,16 @@ class Assembler {
   }
   int n_colors() const { return static_cast<int>(colors_.size()); }
 
-  /// kernel(cell, CellBuffers&) fills ke and fe (both zeroed before the call). The matrix goes
-  /// into `values` (free x free), the vector into `f_full` (all 3*n_nodes dofs).
+  /// kernel(cell, CellBuffers&) fills ke (zeroed before the call); the matrix goes into
+  /// `values` (free x free).
   template <class Kernel>
-  void matrix_and_vector(Kernel&& kernel, std::span<double> values, std::span<double> f_full) const {
+  void matrix(Kernel&& kernel, std::span<double> values) const {
     std::fill(values.begin(), values.end(), 0.0);
     const SymmetricPattern& pattern = this->pattern();
     for_each_cell([&](int c, CellBuffers& b, int nd) {
       std::fill(b.ke, b.ke + nd * nd, 0.0);
-      std::fill(b.fe, b.fe + nd, 0.0);
       kernel(c, b);
       scatter_matrix(pattern, c, b.ke, nd, values);
-      scatter_vector(c, b.fe, f_full);
     });
   }
 

@@ -6,12 +6,12 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "linalg/linear_solver.hpp"
+#include "linalg/sparse_solver.hpp"
 
 namespace hencky {
 namespace {
 
-class CgSolver final : public LinearSolver {
+class CgSolver final : public SparseSolver {
   // Eigen's incomplete Cholesky needs 32-bit indices: the CSC arrays are copied once per matrix.
   using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
   using Map = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::ColMajor, std::int64_t>>;
@@ -32,7 +32,9 @@ class CgSolver final : public LinearSolver {
     cg_.setMaxIterations(std::max<std::int64_t>(1000, 10 * pattern_->n));
     cg_.compute(matrix_);
     if (cg_.info() != Eigen::Success)
-      throw SolveError("incomplete Cholesky preconditioner failed (matrix not positive definite?)");
+      throw LinearSystemError(
+          LinearSystemError::Kind::not_positive_definite,
+          "incomplete Cholesky preconditioner failed (matrix not positive definite?)");
     ++stats_.n_factorizations;
   }
   void solve(std::span<const double> rhs, std::span<double> x) override {
@@ -42,7 +44,8 @@ class CgSolver final : public LinearSolver {
     stats_.iterations += cg_.iterations();
     ++stats_.n_solves;
     if (cg_.info() != Eigen::Success || !xv.allFinite())
-      throw SolveError(fmt::format("conjugate gradients did not converge: relative residual {:.2e} "
+      throw LinearSystemError(LinearSystemError::Kind::diverged,
+                              fmt::format("conjugate gradients did not converge: relative residual {:.2e} "
                                    "after {} iterations",
                                    cg_.error(), cg_.iterations()));
   }
@@ -62,9 +65,9 @@ class CgSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_cholmod_solver();
+std::unique_ptr<SparseSolver> make_cholmod_solver();
 
-std::unique_ptr<LinearSolver> make_linear_solver(LinearSolverKind kind, double tolerance) {
+std::unique_ptr<SparseSolver> make_sparse_solver(LinearSolverKind kind, double tolerance) {
   if (kind == LinearSolverKind::iterative) return std::make_unique<CgSolver>(tolerance);
   return make_cholmod_solver();
 }

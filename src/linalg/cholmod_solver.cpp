@@ -8,12 +8,12 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "linalg/linear_solver.hpp"
+#include "linalg/sparse_solver.hpp"
 
 namespace hencky {
 namespace {
 
-class CholmodSolver final : public LinearSolver {
+class CholmodSolver final : public SparseSolver {
  public:
   CholmodSolver() {
     cholmod_l_start(&common_);
@@ -48,17 +48,21 @@ class CholmodSolver final : public LinearSolver {
     cholmod_l_factorize(&a, factor_, &common_);
     ++stats_.n_factorizations;
     if (common_.status == CHOLMOD_NOT_POSDEF || factor_->minor < factor_->n)
-      throw SolveError(fmt::format(
+      throw LinearSystemError(LinearSystemError::Kind::not_positive_definite, fmt::format(
           "the stiffness matrix is singular or not positive definite (pivot {} of {} failed)",
           factor_->minor, factor_->n));
     if (common_.status < CHOLMOD_OK)
-      throw SolveError(fmt::format("CHOLMOD factorization failed (status {})", common_.status));
+      throw LinearSystemError(
+          LinearSystemError::Kind::failed,
+          fmt::format("CHOLMOD factorization failed (status {})", common_.status));
     // A body free to move as a rigid body has a semi-definite matrix; in floating point its
     // pivots come out tiny rather than negative. CHOLMOD's estimate (min/max diag(L))^2 flags it.
     const double rcond = cholmod_l_rcond(factor_, &common_);
     if (!(rcond > 1e-15))
-      throw SolveError(fmt::format(
-          "the stiffness matrix is singular (reciprocal condition estimate {:.1e})", rcond));
+      throw LinearSystemError(
+          LinearSystemError::Kind::singular,
+          fmt::format("the stiffness matrix is singular (reciprocal condition estimate {:.1e})",
+                      rcond));
   }
 
   void solve(std::span<const double> rhs, std::span<double> x) override {
@@ -72,7 +76,7 @@ class CholmodSolver final : public LinearSolver {
     b.xtype = CHOLMOD_REAL;
     b.dtype = CHOLMOD_DOUBLE;
     cholmod_dense* sol = cholmod_l_solve(CHOLMOD_A, factor_, &b, &common_);
-    if (!sol) throw SolveError("CHOLMOD solve failed");
+    if (!sol) throw LinearSystemError(LinearSystemError::Kind::failed, "CHOLMOD solve failed");
     const double* s = static_cast<const double*>(sol->x);
     std::copy(s, s + x.size(), x.begin());
     cholmod_l_free_dense(&sol, &common_);
@@ -116,6 +120,6 @@ class CholmodSolver final : public LinearSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_cholmod_solver() { return std::make_unique<CholmodSolver>(); }
+std::unique_ptr<SparseSolver> make_cholmod_solver() { return std::make_unique<CholmodSolver>(); }
 
 }  // namespace hencky

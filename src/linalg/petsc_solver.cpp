@@ -67,9 +67,10 @@ struct PetscSolver::Impl {
   }
 };
 
-PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition,
-                         PetscPreset preset, const std::string& options, double tolerance)
-    : impl_(std::make_unique<Impl>()), partition_(std::move(partition)) {
+PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
+                         Partition partition, PetscPreset preset, const std::string& options,
+                         double tolerance)
+    : impl_(std::make_unique<Impl>()), assembler_(assembler), partition_(std::move(partition)) {
   par::ensure_petsc();
   Impl& s = *impl_;
   par::add_petsc_options(options);
@@ -206,7 +207,7 @@ void PetscSolver::set_relative_tolerance(double rtol) {
               "KSPSetTolerances");
 }
 
-void PetscSolver::begin_matrix() {
+void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
   Impl& s = *impl_;
   if (s.assembled_once) check_petsc(MatZeroEntries(s.A), "MatZeroEntries");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
@@ -215,22 +216,37 @@ void PetscSolver::begin_matrix() {
         const PetscInt r = s.first_row[s.owned[l]] + d;
         check_petsc(MatSetValue(s.A, r, r, 1.0, ADD_VALUES), "MatSetValue");
       }
+  const CellSet& cells = s.mesh->cells;
+  std::string failure;
+  assembler_.matrices(
+      cell_matrix,
+      [&](int e, const double* ke) {
+        // MatSetValues is not thread-safe; the cells' matrices are computed in parallel.
+#pragma omp critical(hencky_petsc_add)
+        try {
+          if (failure.empty()) {
+            const auto nodes = cells.nodes(e);
+            PetscInt rows[3 * max_cell_nodes];
+            const PetscInt nd = 3 * static_cast<PetscInt>(nodes.size());
+            for (std::size_t a = 0; a < nodes.size(); ++a)
+              for (int d = 0; d < 3; ++d) rows[3 * a + d] = s.row(nodes[a], d);
+            check_petsc(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
+          }
+        } catch (const std::exception& x) {
+          failure = x.what();
+        }
+      },
+      own_cells());
+  if (!failure.empty()) throw std::runtime_error(failure);
 }
 
-void PetscSolver::add_cell(std::span<const int> nodes, const double* ke) {
+void PetscSolver::add_block(int a, int b, const Mat3& block) {
+  if (partition_.node_owner[a] != partition_.rank) return;  // the owner of the rows adds it
   const Impl& s = *impl_;
-  PetscInt rows[3 * max_cell_nodes];
-  const PetscInt nd = 3 * static_cast<PetscInt>(nodes.size());
-  for (std::size_t a = 0; a < nodes.size(); ++a)
-    for (int d = 0; d < 3; ++d) rows[3 * a + d] = s.row(nodes[a], d);
-  check_petsc(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
-}
-
-void PetscSolver::add_block(int a, int b, const double* block) {
-  const Impl& s = *impl_;
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
   PetscInt r[3], c[3];
   for (int d = 0; d < 3; ++d) r[d] = s.row(a, d), c[d] = s.row(b, d);
-  check_petsc(MatSetValues(s.A, 3, r, 3, c, block, ADD_VALUES), "MatSetValues");
+  check_petsc(MatSetValues(s.A, 3, r, 3, c, rows.data(), ADD_VALUES), "MatSetValues");
 }
 
 void PetscSolver::end_matrix() {
@@ -240,7 +256,8 @@ void PetscSolver::end_matrix() {
   s.assembled_once = true;
 }
 
-void PetscSolver::keep_elements() {
+void PetscSolver::keep_cells() {
+  end_matrix();
   Impl& s = *impl_;
   if (!s.elements)
     check_petsc(MatDuplicate(s.A, MAT_COPY_VALUES, &s.elements), "MatDuplicate");
@@ -248,14 +265,15 @@ void PetscSolver::keep_elements() {
     check_petsc(MatCopy(s.A, s.elements, SAME_NONZERO_PATTERN), "MatCopy");
 }
 
-bool PetscSolver::restore_elements() {
+bool PetscSolver::restore_cells() {
   Impl& s = *impl_;
   if (!s.elements) return false;
   check_petsc(MatCopy(s.elements, s.A, SAME_NONZERO_PATTERN), "MatCopy");
   return true;
 }
 
-void PetscSolver::set_up() {
+void PetscSolver::factorize() {
+  end_matrix();
   Impl& s = *impl_;
   check_petsc(KSPSetOperators(s.ksp, s.A, s.A), "KSPSetOperators");
   if (const PetscErrorCode e = KSPSetUp(s.ksp)) {
@@ -273,17 +291,10 @@ void PetscSolver::set_up() {
       case PETSC_ERR_USER:  // an option's value it does not know ("-matptap_via allatonce")
         throw SolverOptionsError(what);
       default:
-        throw SolveError(what);
+        throw LinearSystemError(LinearSystemError::Kind::not_positive_definite, what);
     }
   }
   ++stats_.n_factorizations;
-}
-
-void PetscSolver::analyze(const SymmetricPattern&) {
-  throw std::logic_error("PetscSolver assembles its own matrix (begin_matrix .. end_matrix)");
-}
-void PetscSolver::factorize(std::span<const double>) {
-  throw std::logic_error("PetscSolver assembles its own matrix (begin_matrix .. end_matrix)");
 }
 
 void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
@@ -311,8 +322,9 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
     PCGetFailedReasonRank(pc, &pcr);
     std::string why = KSPConvergedReasons[reason];
     if (reason == KSP_DIVERGED_PC_FAILED) why += fmt::format(" ({})", PCFailedReasons[pcr]);
-    throw SolveError(fmt::format("{} did not solve the linear system: {} after {} iterations",
-                                 stats_.description, why, its));
+    throw LinearSystemError(LinearSystemError::Kind::diverged,
+                            fmt::format("{} did not solve the linear system: {} after {} iterations",
+                                        stats_.description, why, its));
   }
   // A direct solve (preonly) reports no residual of its own, and MUMPS factors a singular
   // matrix (a body not held) without complaint: check the true residual.
@@ -323,9 +335,11 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
     check_petsc(VecNorm(s.b, NORM_2, &b_norm), "VecNorm");
     check_petsc(VecNorm(s.r, NORM_2, &r_norm), "VecNorm");
     if (!(r_norm <= 1e-8 * b_norm))
-      throw SolveError(fmt::format("{}: the solution leaves a relative residual of {:.2e}: the "
-                                   "matrix is singular or nearly so",
-                                   stats_.description, b_norm > 0 ? r_norm / b_norm : r_norm));
+      throw LinearSystemError(
+          LinearSystemError::Kind::singular,
+          fmt::format("{}: the solution leaves a relative residual of {:.2e}: the matrix is "
+                      "singular or nearly so",
+                      stats_.description, b_norm > 0 ? r_norm / b_norm : r_norm));
   }
   check_petsc(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   check_petsc(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "linalg/linear_solver.hpp"
+#include "linalg/linear_system.hpp"
 #include "mesh/mesh.hpp"
 #include "parallel/partition.hpp"
 
@@ -22,54 +22,50 @@ namespace hencky {
 
 enum class PetscPreset { gamg, mumps };
 
-class PetscSolver final : public LinearSolver {
+class PetscSolver final : public LinearSystem {
  public:
   /// Collective. `options` (PETSc options, later ones win) are in force while this solver
   /// lives; std::invalid_argument when PETSc refuses them. `tolerance` is the tightest
   /// relative residual of the Krylov solve (set_relative_tolerance loosens it per solve;
-  /// -ksp_rtol fixes it instead).
-  PetscSolver(const Mesh& mesh, const DofMap& dofs, Partition partition, PetscPreset preset,
-              const std::string& options = "", double tolerance = 1e-10);
+  /// -ksp_rtol fixes it instead). `assembler` gives the cells' matrices (its pattern is not
+  /// used).
+  PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
+              Partition partition, PetscPreset preset, const std::string& options = "",
+              double tolerance = 1e-10);
   ~PetscSolver() override;
 
   const Partition& partition() const { return partition_; }
-  /// The options given to this solver that PETSc has not read (misspelt, or for a solver not
-  /// in use). Meaningful after the first solve: PETSc reads most options at set-up.
-  std::vector<std::string> unused_options() const;
 
-  // The matrix, assembled in place (collective: begin_matrix and end_matrix).
-  /// Zeroes the matrix and puts 1 on the diagonal of this rank's prescribed dofs.
-  void begin_matrix();
-  /// Adds a cell's matrix (row-major, 3 dofs per node in the order of `nodes`); rows and
-  /// columns of prescribed dofs are skipped. Not thread-safe: one caller at a time.
-  void add_cell(std::span<const int> nodes, const double* ke);
-  /// Adds a 3x3 block (row-major) coupling the dofs of nodes a (rows) and b (columns).
-  void add_block(int a, int b, const double* block);
-  /// Finishes the assembly (moves the entries of shared nodes to their owners).
-  void end_matrix();
-  /// Keeps a copy of the assembled matrix (the elements' part, before the contact's blocks).
-  void keep_elements();
-  /// Puts the kept copy back as the matrix to add to; false when nothing was kept.
-  bool restore_elements();
-  /// Sets the preconditioner (or factorization) up for the assembled matrix. Throws SolveError
-  /// when PETSc reports a failure (a zero pivot, an indefinite matrix for Cholesky), and
-  /// SolverOptionsError when the failure is one of the options (an algorithm that does not
-  /// exist or does not apply).
-  void set_up();
-  /// LinearSolver::set_relative_tolerance for the Krylov solve: no effect on a direct solve
-  /// (MUMPS) or when -ksp_rtol was given (the user's tolerance stands).
-  void set_relative_tolerance(double rtol) override;
-
-  // LinearSolver: the pattern interface of the serial back ends is not used here.
-  void analyze(const SymmetricPattern&) override;
-  void factorize(std::span<const double>) override;
+  // LinearSystem. The matrix is assembled in place: assemble_cells zeroes it, puts 1 on the
+  // diagonal of this rank's prescribed dofs and adds this rank's cells; PETSc moves the
+  // entries of shared nodes to their owners when the matrix is finished (keep_cells,
+  // factorize). add_block adds the blocks of the rows this rank owns.
+  void assemble_cells(const CellMatrix& cell_matrix) override;
+  void keep_cells() override;
+  bool restore_cells() override;
+  void add_block(int a, int b, const Mat3& block) override;
+  /// Sets the preconditioner (or factorization) up for the assembled matrix. Throws
+  /// LinearSystemError when PETSc reports a numerical failure (a zero pivot, an indefinite
+  /// matrix for Cholesky), and SolverOptionsError when the failure is one of the options (an
+  /// algorithm that does not exist or does not apply).
+  void factorize() override;
   /// rhs and x are the free dofs, full length on every rank (DofMap numbering). Collective.
   void solve(std::span<const double> rhs, std::span<double> x) override;
+  /// For the Krylov solve: no effect on a direct solve (MUMPS) or when -ksp_rtol was given
+  /// (the user's tolerance stands).
+  void set_relative_tolerance(double rtol) override;
+  std::vector<std::string> unused_options() const override;
+  const std::vector<char>* own_cells() const override {
+    return partition_.parts > 1 ? &partition_.owned_cell : nullptr;
+  }
   const LinearSolverStats& stats() const override { return stats_; }
 
  private:
+  void end_matrix();
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  const Assembler& assembler_;
   Partition partition_;
   LinearSolverStats stats_;
 };

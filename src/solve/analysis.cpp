@@ -12,7 +12,6 @@
 
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
-#include "linalg/petsc_solver.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/anderson.hpp"
 #include "solve/contact_step.hpp"
@@ -35,18 +34,16 @@ double norm(const std::vector<double>& v) {
 
 class StepSolver {
  public:
-  StepSolver(const Model& m, LinearSolver& solver, Log& log, Timings& timings)
-      : m_(m), solver_(solver), log_(log), timings_(timings), contact_(m) {
-    // The PETSc back end assembles its own distributed matrix; on more than one rank each rank
-    // works on its own cells (only_) and the nodal vectors are summed over the ranks.
-    petsc_ = dynamic_cast<PetscSolver*>(&solver);
-    if (petsc_ && petsc_->partition().parts > 1) only_ = &petsc_->partition().owned_cell;
+  StepSolver(const Model& m, LinearSystem& system, Log& log, Timings& timings)
+      : m_(m), system_(system), log_(log), timings_(timings), contact_(m) {
+    // On more than one rank each rank works on its own cells (only_) and the nodal vectors are
+    // summed over the ranks.
+    only_ = system.own_cells();
     // A rank stores the points of the cells it holds and works on its own cells: these must
     // agree (make_run_solver makes the model hold the partition's cells).
     for (int e = 0; e < m.mesh().cells.size(); ++e)
       if (mine(e) && !m.holds_points(e))
         throw std::logic_error("the model does not hold the points of this rank's cells");
-    if (!petsc_) values_.resize(m.assembler().pattern().nnz());
     plastic_ = m.has_plasticity();
     options_.kind = scheme_from_name(m.spec().solver.scheme);
     options_.strain_form = m.spec().solver.curve_form == "strain";
@@ -113,7 +110,6 @@ class StepSolver {
   }
 
   int factorizations() const { return factorizations_; }
-  bool failed_in_linear_solver() const { return failed_in_linear_solver_; }
   double delta_sigma() const { return delta_sigma_; }
   double delta_eps() const { return delta_eps_; }
 
@@ -233,7 +229,6 @@ class StepSolver {
             u_max = std::max(u_max,
                              Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
           if (u_max > spec.mechanism_limit * model_size_) {
-            failed_in_linear_solver_ = false;
             throw SolveError(fmt::format(
                 "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g} "
                 "(solver.mechanism_limit): the body has become a mechanism (the load is at or "
@@ -257,15 +252,13 @@ class StepSolver {
       // tolerance, not to its own default (an inexact Newton method with a fixed forcing term,
       // after Eisenstat and Walker): the error it leaves is a thousandth of what convergence
       // allows, and the residual recomputed from the points still decides.
-      if (residual > 0) solver_.set_relative_tolerance(1e-3 * spec.tolerance / residual);
+      if (residual > 0) system_.set_relative_tolerance(1e-3 * spec.tolerance / residual);
       auto t0 = Clock::now();
-      failed_in_linear_solver_ = true;
-      solver_.solve(rhs, delta_);
-      failed_in_linear_solver_ = false;
-      if (petsc_ && !options_checked_) {
+      system_.solve(rhs, delta_);
+      if (!options_checked_) {
         // PETSc ignores options it does not know: say so once it has read them (at set-up).
         options_checked_ = true;
-        for (const auto& name : petsc_->unused_options())
+        for (const auto& name : system_.unused_options())
           log_.warn(fmt::format("PETSc option '{}' was not used (misspelt, or for a solver that "
                                 "is not in use)",
                                 name));
@@ -435,7 +428,6 @@ class StepSolver {
   /// a point's state, the internal and the contact forces. Collective (the same decisions and
   /// message on every rank).
   [[noreturn]] void not_finite(const State& s, int iteration, double residual) {
-    failed_in_linear_solver_ = false;  // not the support's fault (run_analysis)
     const auto& mesh = m_.mesh();
     const auto first_dof = [](const std::vector<double>& v) {
       for (std::size_t i = 0; i < v.size(); ++i)
@@ -577,7 +569,6 @@ class StepSolver {
     if (only_) par::sum_in_place(std::span<double>(trial.f_int));
     if (const int e = undefined; e >= 0) {
       timings_.material += seconds_since(t0);
-      failed_in_linear_solver_ = false;
       throw SolveError(fmt::format(
           "scheme '{}' needs the strain form ε̃ = F(σ̃) of the curve of material '{}' above the "
           "largest stress the curve reaches (element {}): F is not defined there (perfect "
@@ -616,30 +607,16 @@ class StepSolver {
   }
 
   /// Assembles the matrix (the elements' part only when `new_elements` or when it was never
-  /// kept: a change of the contact alone reuses the elements' part of the last assembly) and
-  /// factorizes it.
+  /// kept: a change of the contact alone starts from the elements' part of the last assembly)
+  /// and factorizes it.
   void assemble_and_factorize(const State& trial, bool new_elements) {
     auto t0 = Clock::now();
-    if (petsc_) {
-      assemble_petsc(trial, new_elements);
-      timings_.assembly += seconds_since(t0);
-      factorize();
-      return;
+    if (new_elements || !contact_.active() || !system_.restore_cells()) {
+      system_.assemble_cells([&](int e, CellBuffers& b) { element_matrix(trial, e, b); });
+      if (contact_.active()) system_.keep_cells();
     }
-    if (contact_.active() && !new_elements && !element_values_.empty()) {
-      values_ = element_values_;
-      contact_.add_matrix(trial, values_);
-      timings_.assembly += seconds_since(t0);
-      factorize();
-      return;
-    }
-    scratch_.assign(m_.dofs().n_dofs(), 0.0);
-    m_.assembler().matrix_and_vector(
-        [&](int e, CellBuffers& b) { element_matrix(trial, e, b); }, values_, scratch_);
-    if (contact_.active()) {
-      element_values_ = values_;
-      contact_.add_matrix(trial, values_);
-    }
+    if (contact_.active())
+      contact_.add_matrix(trial, [&](int a, int b, const Mat3& block) { system_.add_block(a, b, block); });
     timings_.assembly += seconds_since(t0);
     factorize();
   }
@@ -729,72 +706,18 @@ class StepSolver {
             b.ke[(3 * bb + j) * nd + 3 * a + i] = b.ke[(3 * a + i) * nd + 3 * bb + j];
   }
 
-  /// The PETSc back end's matrix: every rank adds its own cells and, for the contact nodes
-  /// whose rows it owns, their G blocks. The whole matrix is assembled again when only the
-  /// contact changed (the serial back ends reuse the elements' part).
-  void assemble_petsc(const State& trial, bool new_elements) {
-    if (new_elements || !contact_.active() || !petsc_->restore_elements()) assemble_cells(trial);
-    if (contact_.active()) {
-      const int me = petsc_->partition().rank;
-      const auto& owner = petsc_->partition().node_owner;
-      contact_.add_matrix(trial, [&](int a, int b, const Mat3& block) {
-        if (owner[a] != me) return;
-        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
-        petsc_->add_block(a, b, rows.data());
-      });
-    }
-    petsc_->end_matrix();
-  }
-
-  /// The elements' part of the PETSc matrix (this rank's cells); with contact it is assembled
-  /// and kept, so that a change of the contact alone starts from it (as element_values_ does
-  /// for the serial back ends).
-  void assemble_cells(const State& trial) {
-    const auto& mesh = m_.mesh();
-    petsc_->begin_matrix();
-    std::string failure;
-    m_.assembler().matrices(
-        [&](int e, CellBuffers& b) { element_matrix(trial, e, b); },
-        [&](int e, const double* ke) {
-          // MatSetValues is not thread-safe; the cells' matrices are computed in parallel.
-#pragma omp critical(hencky_petsc_add)
-          try {
-            if (failure.empty()) petsc_->add_cell(mesh.cells.nodes(e), ke);
-          } catch (const std::exception& x) {
-            failure = x.what();
-          }
-        },
-        only_);
-    if (!failure.empty()) throw std::runtime_error(failure);
-    if (contact_.active()) {
-      petsc_->end_matrix();
-      petsc_->keep_elements();
-    }
-  }
-
   /// This rank works on cell e (every cell without the PETSc back end on several ranks).
   bool mine(int e) const { return !only_ || (*only_)[e]; }
 
-  /// Factorizes values_ (analysing the pattern the first time), or sets the PETSc solver up
-  /// for its assembled matrix.
+  /// Factorizes the assembled matrix.
   void factorize() {
     const auto t0 = Clock::now();
-    if (!analyzed_ && !petsc_) {
-      solver_.analyze(m_.assembler().pattern());
-      analyzed_ = true;
-    }
-    failed_in_linear_solver_ = true;
     try {
-      if (petsc_)
-        petsc_->set_up();
-      else
-        solver_.factorize(values_);
-    } catch (const SolverOptionsError&) {
-      throw;  // not the matrix's doing
-    } catch (const SolveError& e) {
+      system_.factorize();
+    } catch (const LinearSystemError& e) {
       if (negative_secant_cell_ < 0) throw;
-      // variable-stiffness with a negative secant: say why the matrix is indefinite.
-      failed_in_linear_solver_ = false;
+      // variable-stiffness with a negative secant: say why the matrix is indefinite (a plain
+      // SolveError: the step failed, the supports are not to blame).
       throw SolveError(fmt::format(
           "{}: scheme 'variable-stiffness' has a negative secant slope of the curve of material "
           "'{}' at element {} (the stress at the start of the step lies above the curve along "
@@ -803,7 +726,6 @@ class StepSolver {
           e.what(), m_.material_of(negative_secant_cell_).spec->name,
           m_.mesh().cells.tag[negative_secant_cell_]));
     }
-    failed_in_linear_solver_ = false;
     ++factorizations_;
     factorized_ = true;
     timings_.factorization += seconds_since(t0);
@@ -816,16 +738,14 @@ class StepSolver {
   }
 
   const Model& m_;
-  LinearSolver& solver_;
-  PetscSolver* petsc_ = nullptr;             ///< solver_ when it is the PETSc back end
-  bool options_checked_ = false;             ///< unused PETSc options were reported
+  LinearSystem& system_;
+  bool options_checked_ = false;             ///< unused options of the back end were reported
   const std::vector<char>* only_ = nullptr;  ///< this rank's cells, on more than one rank
   Log& log_;
   Timings& timings_;
   bool matrix_changes_with_temperature_ = false;
-  bool analyzed_ = false, factorized_ = false;
-  std::vector<double> values_, scratch_, target_, rhs_, delta_;
-  std::vector<double> element_values_;  ///< with contact: the elements' part of values_
+  bool factorized_ = false;
+  std::vector<double> target_, rhs_, delta_;
   // Plasticity
   bool plastic_ = false;
   SchemeOptions options_;
@@ -837,7 +757,6 @@ class StepSolver {
   double delta_sigma_ = 0, delta_eps_ = 0;
   int plastic_points_ = 0;
   int factorizations_ = 0;
-  bool failed_in_linear_solver_ = false;
   int negative_secant_cell_ = -1;  ///< a cell whose variable-stiffness secant is negative
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box
   // newton's predictor (solver.predictor): the last converged increment of the free unknowns
@@ -853,7 +772,7 @@ class StepSolver {
 
 }  // namespace
 
-AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, Timings& timings,
+AnalysisResult run_analysis(const Model& model, LinearSystem& solver, Log& log, Timings& timings,
                             StepObserver& observer) {
   const auto& spec = model.spec().solver;
   StepSolver stepper(model, solver, log, timings);
@@ -895,12 +814,16 @@ AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, 
                        std::string(e.what()) +
                            ": PETSc cannot set the solver up with the options given "
                            "(solver.petsc_options, --petsc or PETSC_OPTIONS)");
-    } catch (const SolveError& e) {
-      if (result.steps == 0 && iterations == 0 && stepper.failed_in_linear_solver())
+    } catch (const LinearSystemError& e) {
+      // The first solve of the analysis: the matrix of the elastic body itself cannot be
+      // solved, the supports do not hold it.
+      if (result.steps == 0 && iterations == 0)
         throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},
                          std::string(e.what()) +
                              ": the body is not held against rigid-body motion (translations "
                              "and rotations); check the displacement conditions");
+      why = e.what();
+    } catch (const SolveError& e) {
       why = e.what();
     }
     result.iterations += iterations;

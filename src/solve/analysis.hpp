@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/log.hpp"
-#include "linalg/linear_solver.hpp"
+#include "linalg/linear_system.hpp"
 #include "solve/model.hpp"
 
 namespace hencky {
@@ -76,7 +76,7 @@ struct AnalysisResult {
   std::string failure;  ///< why the analysis stopped, when it did
 };
 
-AnalysisResult run_analysis(const Model& model, LinearSolver& solver, Log& log, Timings& timings,
+AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
                             StepObserver& observer);
 
 }  // namespace hencky

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "linalg/petsc_solver.hpp"
+#include "linalg/serial_system.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/partition.hpp"
 
@@ -49,12 +50,13 @@ std::vector<std::string> describe_contact(const Model& model) {
   return out;
 }
 
-std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
+std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options) {
   const SolverSpec& s = model.spec().solver;
   const int ranks = par::size();
   if (s.linear != SolverSpec::Linear::petsc && ranks == 1)
-    return make_linear_solver(s.linear == SolverSpec::Linear::iterative
+    return make_serial_system(model.assembler(), model.dofs(),
+                              s.linear == SolverSpec::Linear::iterative
                                   ? LinearSolverKind::iterative
                                   : LinearSolverKind::direct);
   const PetscPreset preset =
@@ -70,7 +72,8 @@ std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
              par::max(part.owned_nodes));
   if (ranks > 1) model.hold_points(part.owned_cell);
   try {
-    return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), std::move(part), preset,
+    return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), model.assembler(),
+                                         std::move(part), preset,
                                          s.petsc_options.empty() || petsc_options.empty()
                                              ? s.petsc_options + petsc_options
                                              : s.petsc_options + " " + petsc_options);

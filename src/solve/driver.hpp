@@ -21,7 +21,7 @@ std::vector<std::string> describe_contact(const Model& model);
 /// so. `petsc_options` (the command line's) are added after the case's and win. On several
 /// ranks the model then holds the integration points of this rank's cells only
 /// (Model::hold_points). Collective.
-std::unique_ptr<LinearSolver> make_run_solver(Model& model, Log& log,
+std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options = "");
 
 }  // namespace hencky

@@ -32,7 +32,7 @@
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
 #include "input/load_case.hpp"
-#include "linalg/linear_solver.hpp"
+#include "linalg/serial_system.hpp"
 #include "output/results.hpp"
 #include "solve/driver.hpp"
 
@@ -484,7 +484,8 @@ inline std::unique_ptr<SteppedRun> run_stepped(const fs::path& dir, const std::s
   auto r = std::make_unique<SteppedRun>();
   r->log.quiet = true;
   r->loaded = load_case(dir / name, r->log);
-  auto solver = make_linear_solver(LinearSolverKind::direct);
+  auto solver = make_serial_system(r->loaded.model->assembler(), r->loaded.model->dofs(),
+                                   LinearSolverKind::direct);
   Timings timings;
   const auto t0 = std::chrono::steady_clock::now();
   r->result = run_analysis(*r->loaded.model, *solver, r->log, timings, r->all);

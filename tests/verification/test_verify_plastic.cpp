@@ -3,7 +3,7 @@
 // under internal pressure against its closed form (Hill), up to and beyond the limit load.
 #include <gtest/gtest.h>
 
-#include "linalg/linear_solver.hpp"
+#include "linalg/sparse_solver.hpp"
 #include "solve/schemes.hpp"
 #include "verify_support.hpp"
 

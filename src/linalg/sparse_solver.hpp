@@ -1,7 +1,9 @@
 #pragma once
-// Linear solver back ends behind one interface. The step loop calls analyze() once per
-// pattern, factorize() only when the matrix values changed, and solve() per right-hand side:
-// a scheme that keeps its matrix pays a back-substitution per iteration, not a factorization.
+// The serial back ends' factorization, on the upper triangle of the free dofs' matrix in
+// compressed columns (CHOLMOD, and CG with incomplete Cholesky). The step loop does not see
+// it: it works through LinearSystem (linear_system.hpp), whose serial implementation
+// (serial_system.hpp) assembles the values and calls analyze() once per pattern, factorize()
+// only when the values changed, and solve() per right-hand side.
 #include <algorithm>
 #include <memory>
 #include <span>
@@ -21,13 +23,13 @@ struct LinearSolverStats {
   std::string description;     ///< e.g. "CHOLMOD supernodal, METIS ordering"
 };
 
-class LinearSolver {
+class SparseSolver {
  public:
-  virtual ~LinearSolver() = default;
+  virtual ~SparseSolver() = default;
   /// Symbolic work on the pattern (ordering, elimination tree). Once per pattern.
   virtual void analyze(const SymmetricPattern& pattern) = 0;
   /// Numeric factorization (or preconditioner set-up) of the upper-triangle values.
-  /// Throws SolveError when the matrix is singular or not positive definite.
+  /// Throws LinearSystemError when the matrix is singular or not positive definite.
   virtual void factorize(std::span<const double> values) = 0;
   virtual void solve(std::span<const double> rhs, std::span<double> x) = 0;
   virtual const LinearSolverStats& stats() const = 0;
@@ -35,17 +37,16 @@ class LinearSolver {
   /// never below the back end's own tolerance nor above 0.1. The step loop loosens it while the
   /// nonlinear residual is far from its tolerance (inexact Newton). Direct back ends ignore it.
   virtual void set_relative_tolerance(double /*rtol*/) {}
-
- protected:
-  /// set_relative_tolerance's rule for a back end whose own tolerance is `floor`.
-  static double forcing_tolerance(double rtol, double floor) {
-    return std::clamp(rtol, floor, std::max(floor, 0.1));
-  }
 };
+
+/// set_relative_tolerance's rule for a back end whose own tolerance is `floor`.
+inline double forcing_tolerance(double rtol, double floor) {
+  return std::clamp(rtol, floor, std::max(floor, 0.1));
+}
 
 enum class LinearSolverKind { direct, iterative };
 
 /// `tolerance` is the relative residual of the iterative back end.
-std::unique_ptr<LinearSolver> make_linear_solver(LinearSolverKind kind, double tolerance = 1e-10);
+std::unique_ptr<SparseSolver> make_sparse_solver(LinearSolverKind kind, double tolerance = 1e-10);
 
 }  // namespace hencky
