@@ -1,0 +1,228 @@
+// The mesh and materials sections: the mesh file, the materials with their regions, elastic
+// constants and thermal expansion, and property tables over temperature.
+#include <cmath>
+#include <map>
+#include <system_error>
+
+#include "input/case_sections.hpp"
+#include "material/elastic.hpp"
+#include "material/hardening.hpp"
+
+namespace hencky::case_input {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> mesh_keys = {"file", "order", "scale"};
+const std::vector<std::string> material_keys = {"name", "regions", "E",
+                                                "nu",   "alpha",   "plasticity"};
+const std::vector<std::string> table_keys = {"temperature", "value"};
+
+const KeySection sections[] = {
+    {"mesh", &mesh_keys},
+    {"materials[i]", &material_keys},
+};
+
+}  // namespace
+
+std::span<const KeySection> mesh_material_sections() {
+  return sections;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mesh
+
+MeshSpec read_mesh(const Reader& r, const Val& v) {
+  Map m(r, v, mesh_keys, "a map like {file: part.msh}");
+  MeshSpec mesh;
+  const Val file = m.require(r, "file", "the Gmsh mesh, e.g. file: part.msh");
+  mesh.where = r.at(file);
+  const std::string name = r.string(file, "a file name");
+  mesh.file = r.resolve(name);
+  const std::string ext = lower(mesh.file.extension().string());
+  if (ext != ".msh" && ext != ".geo")
+    r.fail(file, "expected a Gmsh mesh (.msh) or geometry (.geo) file, found '" + name + "'");
+  std::error_code ec;
+  if (!fs::exists(mesh.file, ec))
+    r.fail(file, "mesh file not found: " + mesh.file.string() +
+                     " (relative paths are taken from the case file's folder)");
+  if (!fs::is_regular_file(mesh.file, ec))
+    r.fail(file, "expected a mesh file, found a directory or special file: " + mesh.file.string());
+  if (auto o = m.get("order")) {
+    const long order = r.integer(*o);
+    if (order != 1 && order != 2) r.fail(*o, "expected 1 or 2, found " + std::to_string(order));
+    mesh.order = static_cast<int>(order);
+  }
+  if (auto s = m.get("scale")) mesh.scale = r.positive(*s);
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Property tables
+
+namespace {
+
+void check_property(const Reader& r, const Val& v, Property p, const std::string& what, double x) {
+  switch (p) {
+    case Property::E:
+      if (!(x > 0)) r.fail(v, what + " must be > 0, found " + num(x));
+      break;
+    case Property::nu:
+      if (!(x > -1.0 && x < 0.5))
+        r.fail(v, what +
+                      " must satisfy -1 < nu < 0.5 (0.5 is incompressible, which this "
+                      "displacement formulation cannot solve), found " +
+                      num(x));
+      break;
+    case Property::yield:
+      if (!(x > 0)) r.fail(v, what + " must be > 0, found " + num(x));
+      break;
+    case Property::alpha:
+    case Property::hardening:  // may be negative (softening); > -3G is checked with E and nu
+      break;
+  }
+}
+
+}  // namespace
+
+PropertyTable read_property(const Reader& r, const Val& v, const std::string& name, Property p) {
+  PropertyTable t;
+  t.where = r.at(v);
+  if (v.node.IsScalar()) {
+    t.value = {r.material_number(v)};
+    check_property(r, v, p, name, t.value[0]);
+    return t;
+  }
+  if (!v.node.IsMap())
+    r.fail(v, "expected a number or a table {temperature: [...], value: [...]}, found " +
+                  describe(v.node));
+  Map m(r, v, table_keys);
+  const Val temp = m.require(r, "temperature", "the table's temperatures, e.g. [20, 500]");
+  const Val val = m.require(r, "value", "the values at those temperatures");
+  const auto ts = r.list(temp, "a list of temperatures [T1, T2, ...]");
+  const auto vs = r.list(val, "a list of values [v1, v2, ...]");
+  if (ts.empty()) r.fail(temp, "expected at least one temperature, found an empty list");
+  for (std::size_t i = 0; i < ts.size(); ++i) {
+    t.temperature.push_back(r.number(ts[i]));
+    if (i > 0 && !(t.temperature[i] > t.temperature[i - 1]))
+      r.fail(ts[i], "temperatures must be strictly increasing, found " + num(t.temperature[i]) +
+                        " after " + num(t.temperature[i - 1]));
+  }
+  if (vs.size() != ts.size())
+    r.fail(val, "expected " + std::to_string(ts.size()) + " values (one per temperature), found " +
+                    std::to_string(vs.size()));
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    t.value.push_back(r.material_number(vs[i]));
+    check_property(r, vs[i], p, name, t.value[i]);
+  }
+  return t;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+
+namespace {
+
+/// E and nu whose stiffness or compliance leaves the range of floating point (E = 1e308 with
+/// nu = 0.3 has a finite E but an infinite E/(1 − 2nu)): checked at every temperature of
+/// their tables, where the extremes of these monotone functions of E and nu lie.
+void check_elastic_range(const MaterialSpec& mat) {
+  std::vector<double> ts = {0.0};
+  for (const PropertyTable* p : {&mat.E, &mat.nu})
+    ts.insert(ts.end(), p->temperature.begin(), p->temperature.end());
+  for (double T : ts) {
+    const ElasticConstants k{mat.E(T), mat.nu(T), 0.0};
+    const std::pair<const char*, double> parts[] = {
+        {"the shear modulus G = E/(2(1 + nu))", k.shear_modulus()},
+        {"the Lame constant lambda = E nu/((1 + nu)(1 - 2nu))", k.lame_lambda()},
+        {"the bulk stiffness E/(1 - 2nu)", k.E / (1 - 2 * k.nu)},
+        {"the compliance 2(1 + nu)/E", 2 * (1 + k.nu) / k.E}};
+    for (const auto& [what, value] : parts)
+      if (!std::isfinite(value))
+        throw InputError(
+            mat.E.where,
+            "E = " + num(k.E) + " with nu = " + num(k.nu) +
+                (mat.E.is_constant() && mat.nu.is_constant() ? std::string()
+                                                             : " (at temperature " + num(T) + ")") +
+                " gives " + what + " = " + num(value) +
+                ", beyond the range of floating point; choose units that keep the "
+                "material's numbers moderate (e.g. MPa and mm)");
+  }
+}
+
+/// The material's law: E, nu, alpha and the plasticity, each checked as far as the case alone
+/// allows (the mesh's temperatures are checked later).
+void read_material_law(const Reader& r, const Map& m, bool has_temperature, MaterialSpec& mat) {
+  mat.E = read_property(r, m.require(r, "E", "Young's modulus in Pa, e.g. E: 2.1e11"), "E",
+                        Property::E);
+  mat.nu =
+      read_property(r, m.require(r, "nu", "Poisson's ratio, e.g. nu: 0.3"), "nu", Property::nu);
+  check_elastic_range(mat);
+  if (auto a = m.get("alpha")) {
+    mat.alpha = read_property(r, *a, "alpha", Property::alpha);
+  } else if (has_temperature) {
+    m.require(r, "alpha",
+              "the thermal expansion coefficient in 1/K, e.g. alpha: 1.2e-5; "
+              "it is required because the case has a temperature section");
+  } else {
+    mat.alpha.value = {0.0};
+    mat.alpha.where = mat.where;
+  }
+  if (auto pl = m.get("plasticity")) {
+    mat.plasticity = read_plasticity(r, *pl, mat);
+    // Converting the curve needs E and nu: done here only to report a bad curve now (for
+    // `hencky check`); the model builds its own.
+    (void)Hardening(*mat.plasticity, mat.E, mat.nu);
+  }
+}
+
+}  // namespace
+
+std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has_temperature) {
+  if (v.node.IsMap())
+    r.fail(v, "expected a list of materials (start each entry with '- '), found a map");
+  const auto items = r.list(v, "a list of materials");
+  if (items.empty()) r.fail(v, "expected at least one material, found an empty list");
+  std::vector<MaterialSpec> out;
+  std::map<std::string, std::size_t> names;
+  std::map<std::string, std::size_t> region_owner;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const Val& item = items[i];
+    Map m(r, item, material_keys, "a material {name: ..., E: ..., nu: ..., alpha: ...}");
+    MaterialSpec mat;
+    mat.where = r.at(item);
+    if (auto n = m.get("name")) {
+      mat.name = r.string(*n);
+      if (auto prev = names.find(mat.name); prev != names.end())
+        r.fail(*n, "material name '" + mat.name + "' is already used by materials[" +
+                       std::to_string(prev->second) + "]");
+    } else {
+      mat.name = "material" + std::to_string(i);
+    }
+    names.emplace(mat.name, i);
+    if (auto regs = m.get("regions")) {
+      for (const Val& rv : r.names(*regs)) {
+        const std::string reg = r.string(rv, "a region name");
+        if (auto prev = region_owner.find(reg); prev != region_owner.end()) {
+          if (prev->second == i) r.fail(rv, "region '" + reg + "' is listed twice");
+          r.fail(rv, "region '" + reg + "' is already given to material '" +
+                         out[prev->second].name + "' (materials[" + std::to_string(prev->second) +
+                         "]); a region has one material");
+        }
+        mat.regions.push_back(reg);
+        mat.region_where.push_back(r.at(rv));
+        region_owner.emplace(reg, i);
+      }
+    } else if (items.size() > 1) {
+      r.fail(item, "material '" + mat.name +
+                       "' needs 'regions' (the Gmsh physical volumes it "
+                       "fills): it may be left out only when there is one material");
+    }
+    read_material_law(r, m, has_temperature, mat);
+    out.push_back(std::move(mat));
+  }
+  return out;
+}
+
+}  // namespace hencky::case_input

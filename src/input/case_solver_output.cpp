@@ -1,0 +1,238 @@
+// The solver section (scheme, steps, iteration and linear solver settings) and the output
+// section (folder, probes, reactions).
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <sstream>
+
+#include "core/suggest.hpp"
+#include "input/case_sections.hpp"
+#include "parallel/mpi.hpp"
+
+namespace hencky::case_input {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> solver_keys = {
+    "scheme",         "curve_form",      "steps",      "end",          "times",
+    "max_iterations", "tolerance",       "relaxation", "correction",   "cutback",
+    "linear",         "mechanism_limit", "predictor",  "acceleration", "petsc_options"};
+const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
+                                          "initial-strain", "initial-strain-stiffness",
+                                          "initial-stress", "initial-stress-stiffness"};
+const std::vector<std::string> curve_forms = {"stress", "strain"};
+const std::vector<std::string> predictors = {"extrapolate", "none"};
+const std::vector<std::string> accelerations = {"none", "anderson"};
+const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
+const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
+const std::vector<std::string> probe_keys = {"name", "point"};
+
+const KeySection sections[] = {
+    {"solver", &solver_keys},
+    {"output", &output_keys},
+    {"output.probes[i]", &probe_keys},
+};
+
+// ---------------------------------------------------------------------------------------------
+// Solver
+
+/// Why the number of steps is bounded (max_steps).
+const std::string too_many_steps =
+    ": every step is a solve with a history row and a log line, so more steps only make the run "
+    "and its outputs longer without resolving the load path better (split a long load history "
+    "into several cases, or use larger steps)";
+
+/// times: [t1, t2, ...], or steps and end (equal steps).
+StepTimes read_step_times(const Reader& r, const Map& m, const Val& v) {
+  if (auto x = m.get("times")) {
+    for (const char* k : {"steps", "end"})
+      if (m.has(k))
+        throw InputError(
+            r.at(m.key_mark(k), child_path(v.path, k)),
+            std::string("give either 'times' or 'steps' and 'end', not both; found '") + k +
+                "' with 'times'");
+    if (!x->node.IsSequence())
+      r.fail(*x, "expected a list of step end times [t1, t2, ...], found " + describe(x->node));
+    if (x->node.size() > static_cast<std::size_t>(max_steps))
+      r.fail(*x, "expected at most " + std::to_string(max_steps) + " step end times, found " +
+                     std::to_string(x->node.size()) + too_many_steps);
+    const auto items = r.list(*x, "a list of step end times [t1, t2, ...]");
+    if (items.empty()) r.fail(*x, "expected at least one time, found an empty list");
+    std::vector<double> times;
+    for (const auto& it : items) {
+      const double t = r.number(it);
+      if (!(t > 0)) r.fail(it, "step end times must be > 0, found " + num(t));
+      if (!times.empty() && !(t > times.back()))
+        r.fail(it, "step end times must be strictly increasing, found " + num(t) + " after " +
+                       num(times.back()));
+      times.push_back(t);
+    }
+    return StepTimes::list(std::move(times));
+  }
+  long steps = 1;
+  if (auto x = m.get("steps")) {
+    steps = r.integer(*x);
+    if (steps < 1) r.fail(*x, "expected a whole number >= 1, found " + std::to_string(steps));
+    if (steps > max_steps)
+      r.fail(*x, "expected at most " + std::to_string(max_steps) + " steps, found " +
+                     std::to_string(steps) + too_many_steps);
+  }
+  const double end = m.has("end") ? r.positive(*m.get("end")) : 1.0;
+  return StepTimes::equal(steps, end);
+}
+
+/// acceleration: none or anderson, where the iteration is a fixed map.
+void read_acceleration(const Reader& r, const Val& x, bool has_contact, SolverSpec& s) {
+  s.anderson = r.choice(x, accelerations, "acceleration") == "anderson";
+  // Anderson mixing needs a fixed map u -> u + K^-1 r(u): a fixed matrix, and a point law that
+  // depends on the iterate only (the initial-strain schemes carry their relaxed initial strain
+  // from one iteration to the next).
+  if (s.anderson && s.scheme != "initial-stress" && s.scheme != "initial-stress-stiffness")
+    r.fail(x,
+           "acceleration: anderson applies to the schemes initial-stress and "
+           "initial-stress-stiffness (a fixed matrix and a point law of the iterate alone), "
+           "not to '" +
+               s.scheme + "'");
+  // The contact's augmented forces are memory of the same kind (measured: Anderson needed
+  // 155 iterations where the plain iteration needed 89 on a plastic indentation).
+  if (s.anderson && has_contact)
+    r.fail(x,
+           "acceleration: anderson cannot be combined with contact (the contact forces carry "
+           "over from one iteration to the next, so the iteration is no fixed map of the "
+           "displacements that Anderson mixing could accelerate); remove it");
+}
+
+/// petsc_options: only options: a token that is no option must be the value of the one before it.
+void read_petsc_options(const Reader& r, const Val& x, SolverSpec& s) {
+  s.petsc_options = r.string(x);
+  std::istringstream in(s.petsc_options);
+  std::string token, previous;
+  while (in >> token) {
+    const bool option = par::is_petsc_option_name(token);
+    if (!option && (previous.empty() || previous[0] != '-'))
+      r.fail(x, "expected PETSc options such as \"-ksp_type cg -pc_type hypre\"; '" + token +
+                    "' is neither an option (starting with '-') nor the value of one");
+    previous = option ? token : std::string();
+  }
+}
+
+}  // namespace
+
+std::span<const KeySection> solver_output_sections() {
+  return sections;
+}
+
+SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_contact) {
+  SolverSpec s;
+  if (!v) return s;
+  Map m(r, *v, solver_keys);
+  if (auto x = m.get("scheme")) s.scheme = r.choice(*x, schemes, "scheme");
+  if (auto x = m.get("curve_form")) s.curve_form = r.choice(*x, curve_forms, "curve form");
+  s.times = read_step_times(r, m, *v);
+  if (auto x = m.get("max_iterations")) s.max_iterations = r.integer_at_least(*x, 1);
+  if (auto x = m.get("tolerance")) {
+    s.tolerance = r.number(*x);
+    if (!(s.tolerance > 0 && s.tolerance < 1))
+      r.fail(*x, "expected a relative tolerance with 0 < tolerance < 1, found " + num(s.tolerance));
+  }
+  if (auto x = m.get("relaxation")) s.relaxation = r.positive(*x);
+  if (auto x = m.get("correction")) {
+    s.correction = r.number(*x);
+    if (s.correction < 0)
+      r.fail(*x, "expected a number >= 0 (0 turns the correction off), found " + num(s.correction));
+  }
+  if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
+  if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
+  if (auto x = m.get("predictor"))
+    s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
+  if (auto x = m.get("acceleration")) read_acceleration(r, *x, has_contact, s);
+  if (auto x = m.get("linear")) {
+    const std::string l = r.choice(*x, linear_solvers, "linear solver");
+    s.linear = l == "direct"      ? SolverSpec::Linear::direct
+               : l == "iterative" ? SolverSpec::Linear::iterative
+                                  : SolverSpec::Linear::petsc;
+  }
+  if (auto x = m.get("petsc_options")) read_petsc_options(r, *x, s);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+bool valid_probe_name(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+namespace {
+
+/// output.probes: named points whose displacement goes into history.csv.
+std::vector<ProbeSpec> read_probes(const Reader& r, const Val& x) {
+  std::vector<ProbeSpec> probes;
+  if (x.node.IsMap())
+    r.fail(x, "expected a list of probes (start each entry with '- '), found a map");
+  std::map<std::string, std::size_t> names;
+  for (const auto& item : r.list(x, "a list of probes")) {
+    Map pm(r, item, probe_keys, "a probe {name: A, point: [x, y, z]}");
+    ProbeSpec p;
+    const Val name = pm.require(r, "name", "the probe's name, used in history.csv");
+    p.name = r.string(name);
+    if (!valid_probe_name(p.name))
+      r.fail(name,
+             "probe names may use letters, digits, '_' and '-' only (they become column "
+             "names), found '" +
+                 p.name + "'");
+    if (auto prev = names.find(p.name); prev != names.end())
+      r.fail(name, "probe name '" + p.name + "' is already used by output.probes[" +
+                       std::to_string(prev->second) + "]");
+    names.emplace(p.name, probes.size());
+    const Val point = pm.require(r, "point", "the probe's coordinates [x, y, z]");
+    p.point = r.vec3(point);
+    p.where = r.at(point);
+    probes.push_back(std::move(p));
+  }
+  return probes;
+}
+
+}  // namespace
+
+OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::path& default_dir,
+                       const std::vector<BoundarySpec>& boundary) {
+  OutputSpec o;
+  o.dir = default_dir;
+  o.dir_where = SourceLocation{r.label(), 0, 0, "output.dir"};
+  if (!v) return o;
+  Map m(r, *v, output_keys);
+  if (auto x = m.get("dir")) {
+    o.dir = r.resolve(r.string(*x, "a folder name"));
+    if (!o.dir.has_filename()) o.dir = o.dir.parent_path();  // "results/" is "results"
+    o.dir_where = r.at(*x);
+  }
+  if (auto x = m.get("every")) o.every = r.integer_at_least(*x, 1);
+  if (auto x = m.get("probes")) o.probes = read_probes(r, *x);
+  if (auto x = m.get("reactions")) {
+    std::vector<std::string> fixed;  // regions with a displacement condition, in order
+    for (const auto& b : boundary)
+      if (b.kind == BoundaryKind::displacement &&
+          std::find(fixed.begin(), fixed.end(), b.region) == fixed.end())
+        fixed.push_back(b.region);
+    for (const auto& item : r.names(*x)) {
+      const std::string reg = r.string(item, "a region name");
+      if (std::find(o.reactions.begin(), o.reactions.end(), reg) != o.reactions.end())
+        r.fail(item, "region '" + reg + "' is listed twice");
+      if (std::find(fixed.begin(), fixed.end(), reg) == fixed.end())
+        r.fail(item, "region '" + reg +
+                         "' has no displacement condition; reactions are "
+                         "reported for regions with prescribed displacement. " +
+                         suggestion(reg, fixed, "regions with a displacement condition"));
+      o.reactions.push_back(reg);
+      o.reaction_where.push_back(r.at(item));
+    }
+  }
+  return o;
+}
+
+}  // namespace hencky::case_input
