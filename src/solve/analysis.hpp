@@ -2,69 +2,14 @@
 // The incremental step loop (report section 2). Each step solves for the displacement
 // increment with the error correction (2.29)-(2.30); the iteration inside a step is written
 // once, in residual form, and the schemes of solve/schemes.hpp plug into it as point laws.
-#include <cstdint>
 #include <vector>
 
 #include "core/log.hpp"
 #include "linalg/linear_system.hpp"
 #include "solve/model.hpp"
+#include "solve/state.hpp"
 
 namespace hencky {
-
-/// Everything that describes the body at one converged time (committed) or at the current
-/// iterate (trial). Integration-point data is indexed by Model::point_offset(cell) + q and
-/// holds this rank's cells only (all of them on one rank); nodal data is whole on every rank.
-struct State {
-  double time = 0;
-  std::vector<double> u;                    ///< displacement, 3 per node
-  std::vector<double> nodal_temperature;    ///< per node
-  std::vector<Voigt> stress;                ///< per integration point
-  std::vector<double> temperature;          ///< per integration point
-  std::vector<ElasticConstants> constants;  ///< E, ν, α at the point's temperature
-  std::vector<double> f_ext;                ///< external nodal forces, 3 per node
-  std::vector<double> f_int;                ///< internal nodal forces ∫Bᵀσ, 3 per node
-  // Plasticity, per integration point (zero for elastic materials):
-  std::vector<Voigt> plastic_strain;   ///< ε^p, engineering shears
-  std::vector<double> eps_p_eq;        ///< ε̃^p, equivalent plastic strain (hardening variable)
-  std::vector<double> eps_ep;          ///< ε̃^{e+p}, the scalar the schemes advance
-  std::vector<double> eps_ep_max;      ///< the largest ε̃^{e+p} reached
-  std::vector<std::uint8_t> flowing;   ///< 1: flowed plastically in the step that ended here
-  // Contact (report section 3):
-  std::vector<double> f_contact;  ///< forces of the rigid supports on the nodes, 3 per node
-  std::vector<std::vector<ContactNode>> contact;  ///< per contact, per contact point
-};
-
-struct StepReport {
-  int step = 0;            ///< 1-based count of converged steps
-  double time = 0;
-  int iterations = 0;
-  double residual = 0;     ///< ‖F_ext − F_int‖ on the free dofs, relative
-  double delta_sigma = 0;  ///< the scheme's Δ^σ of the last iteration (0 without plasticity)
-  double delta_eps = 0;    ///< the scheme's Δ^ε of the last iteration
-  int factorizations = 0;  ///< matrix factorizations in this step (cut-back attempts included)
-  int plastic_points = 0;  ///< integration points that flowed plastically in this step
-  bool last = false;       ///< the final step of the analysis
-  /// The step's fields are written (every output.every-th step and the last): the recovered
-  /// fields then hold the cells' values too.
-  bool write_fields = false;
-};
-
-struct Timings {
-  double assembly = 0, factorization = 0, solve = 0, material = 0, output = 0;
-  double contact = 0;  ///< contact search and state updates
-};
-
-struct RecoveredFields;  // solve/recovery.hpp
-
-class StepObserver {
- public:
-  virtual ~StepObserver() = default;
-  /// Called on every rank after every converged step with the committed state (this rank's
-  /// integration points) and the point values recovered to the nodes, and to the cells when
-  /// report.write_fields (whole on root, empty on the other ranks).
-  virtual void step_done(const StepReport& report, const State& state,
-                         const RecoveredFields& fields) = 0;
-};
 
 enum class AnalysisStatus { converged, not_converged };
 

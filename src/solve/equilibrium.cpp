@@ -1,0 +1,397 @@
+#include "solve/equilibrium.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "parallel/mpi.hpp"
+#include "solve/element_matrix.hpp"
+#include "solve/finite_check.hpp"
+
+namespace hencky {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double norm(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x * x;
+  return std::sqrt(s);
+}
+
+SchemeOptions scheme_options(const SolverSpec& s) {
+  SchemeOptions o;
+  o.kind = scheme_from_name(s.scheme);
+  o.strain_form = s.curve_form == "strain";
+  o.omega = s.relaxation;
+  return o;
+}
+
+/// The diagonal of the mesh's bounding box.
+double model_size(const Mesh& mesh) {
+  Vec3 lo = mesh.x.front(), hi = lo;
+  for (const Vec3& p : mesh.x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+}  // namespace
+
+Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings)
+    : m_(m),
+      system_(system),
+      log_(log),
+      timings_(timings),
+      // On more than one rank each rank works on its own cells and the nodal vectors are
+      // summed over the ranks.
+      only_(system.own_cells()),
+      plastic_(m.has_plasticity()),
+      options_(scheme_options(m.spec().solver)),
+      points_(m, only_, options_),
+      contact_(m) {
+  // A rank stores the points of the cells it holds and works on its own cells: these must
+  // agree (make_run_solver makes the model hold the partition's cells).
+  for (int e = 0; e < m.mesh().cells.size(); ++e)
+    if ((!only_ || (*only_)[e]) && !m.holds_points(e))
+      throw std::logic_error("the model does not hold the points of this rank's cells");
+  // Not with contact: extrapolating a long step after short ones pushes the nodes near the
+  // contact far into the surfaces (8 increments deep on a plastic indentation, where the
+  // step then failed; from the converged state it took 10 iterations).
+  extrapolate_ = plastic_ && options_.kind == SchemeKind::newton && m.spec().solver.extrapolate &&
+                 m.contacts().empty();
+  if (plastic_) model_size_ = model_size(m.mesh());
+  if (m.has_temperature())
+    for (const auto& mat : m.materials())
+      matrix_changes_with_temperature_ = matrix_changes_with_temperature_ ||
+                                         !mat.spec->E.is_constant() || !mat.spec->nu.is_constant();
+}
+
+State Equilibrium::initial_state() const {
+  State s;
+  const int n_dofs = m_.dofs().n_dofs(), n_pts = m_.n_points();
+  s.u.assign(n_dofs, 0.0);
+  s.nodal_temperature.assign(m_.mesh().n_nodes(), m_.reference_temperature());
+  s.stress.assign(n_pts, Voigt::Zero());
+  s.temperature.assign(n_pts, m_.reference_temperature());
+  s.constants.resize(n_pts);
+  for (int e = 0; e < m_.mesh().cells.size(); ++e)
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
+      s.constants[p] = m_.material_of(e).at(m_.reference_temperature());
+  s.f_ext.assign(n_dofs, 0.0);
+  s.f_int.assign(n_dofs, 0.0);
+  s.plastic_strain.assign(n_pts, Voigt::Zero());
+  s.eps_p_eq.assign(n_pts, 0.0);
+  s.eps_ep.assign(n_pts, 0.0);
+  s.eps_ep_max.assign(n_pts, 0.0);
+  s.flowing.assign(n_pts, 0);
+  contact_.initial(s);
+  return s;
+}
+
+bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out) {
+  const auto& spec = m_.spec().solver;
+  out = StepOutcome{};
+  begin(c, t1, trial);
+  Evaluation ev = evaluate(c, trial, false);
+  // Force scale of the step, fixed at the start: the loads, the internal forces before and
+  // after the first iterate, and its residual (which carries thermal and prescribed-
+  // displacement loading). A step whose answer has no load and no stress (free expansion,
+  // unloading to zero) still has a scale, so round-off is recognised as convergence.
+  const double f_norm =
+      std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
+  if (extrapolate_) ev = predict(c, trial, ev);  // the predictor is chosen before the loop
+  double previous_residual = INFINITY;
+  anderson_.reset();
+  for (out.iterations = 0;; ++out.iterations) {
+    if (out.iterations > 0) ev = evaluate(c, trial, true);
+    // With contact, the force a surface's travel puts on the first iterate (κ times the
+    // travel) is no force scale of the problem: that of the internal forces of the iterate is.
+    const double scale = contact_.active() ? std::max(f_norm, norm(trial.f_int)) : f_norm;
+    out.residual = scale > 0 ? std::sqrt(ev.r2) / scale : 0.0;
+    // A NaN or an infinity in the iterate makes r or the scale non-finite; a NaN scale would
+    // read as "no load" above (and a residual of 0 as converged).
+    if (!std::isfinite(ev.r2) || !std::isfinite(scale)) out.residual = NAN;
+    out.delta_sigma = ev.points.delta_sigma;
+    out.delta_eps = ev.points.delta_eps;
+    out.plastic_points = ev.points.plastic_points;
+    if (only_) {
+      // The sums over ranks may differ in their last bits from rank to rank: root's figures
+      // decide for all.
+      double d[3] = {out.residual, out.delta_sigma, out.delta_eps};
+      par::broadcast(std::span<double>(d));
+      out.residual = d[0], out.delta_sigma = d[1], out.delta_eps = d[2];
+    }
+    report(out);
+    if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
+    if (converged(out)) {
+      accept(c, trial, scale, out);
+      return true;
+    }
+    if (out.iterations >= spec.max_iterations) return false;
+    advance(trial, ev, out.iterations, out.residual, previous_residual);
+  }
+}
+
+/// The step's loads, temperatures and prescribed displacements at t1, the points' and the
+/// contact's set-up, and the equilibrium target (2.29)-(2.30).
+void Equilibrium::begin(const State& c, double t1, State& trial) {
+  const auto& dofs = m_.dofs();
+  trial.time = t1;
+  trial.u = c.u;
+  m_.nodal_temperature(t1, trial.nodal_temperature);
+  points_.temperatures(trial, log_);
+  m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
+  m_.external_forces(t1, trial.f_ext);
+  if (plastic_) points_.begin_step(c, trial);
+  if (contact_.active()) contact_.begin(c, trial);
+  // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) +
+  // F_contact(t) − F_int(t): with γ = 1 the defect left by the previous step is corrected in
+  // full. The support's forces of the step are part of the residual (residual_vector), so
+  // that R(t) carries ⁽ᵗ⁾F as (3.6) asks.
+  const double gamma = m_.spec().solver.correction;
+  target_.resize(dofs.n_dofs());
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] + c.f_contact[i] - c.f_int[i]);
+  rhs_.resize(dofs.n_free);
+  delta_.resize(dofs.n_free);
+}
+
+/// The iterate trial.u: points and internal forces, then (after a solve) the contact's steps
+/// 3-4, then the residual.
+Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact) {
+  Evaluation ev;
+  auto t0 = Clock::now();
+  ev.points = points_.update(c, trial);
+  timings_.material += seconds_since(t0);
+  negative_secant_cell_ = ev.points.negative_secant_cell;
+  if (const int e = ev.points.undefined_cell; e >= 0)
+    throw SolveError(fmt::format(
+        "scheme '{}' needs the strain form ε̃ = F(σ̃) of the curve of material '{}' above the "
+        "largest stress the curve reaches (element {}): F is not defined there (perfect "
+        "plasticity, a table's flat end). Use initial-stress, initial-stress-stiffness, "
+        "variable-stiffness with curve_form: stress, or newton",
+        scheme_name(options_.kind), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
+  if (contact_.active() && update_contact) {
+    t0 = Clock::now();
+    contact_.update(c, trial);
+    timings_.contact += seconds_since(t0);
+  }
+  ev.r2 = residual_vector(trial, &ev.r_loads2);
+  return ev;
+}
+
+/// newton's predictor (solver.predictor: extrapolate). The step starts from the converged
+/// state (evaluated: `at_start`). When the last step moved the free nodes by Δu_n and the new
+/// step's out-of-balance force does positive work on Δu_n (the load keeps its direction: not
+/// a reversal), the start moves on to u(t) + (Δt/Δt_n)·Δu_n, the linear extrapolation of the
+/// path (Abaqus/Standard starts its increments the same way by default). Its residual is not
+/// always smaller than that of u(t): where the plastic zone grows, the points it reaches carry
+/// their overshoot of the yield stress as out-of-balance force, but the zone and the tangents
+/// of the first iterate are close to the converged ones, which is what saves iterations
+/// (measured on the bench cylinder: 4 iterations per plastic step instead of 5-6, even where
+/// the residual norm of the extrapolated start was the larger). Returns the evaluation of the
+/// start kept; rhs_ and the points hold it.
+Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
+                                             const Evaluation& at_start) {
+  const auto& dofs = m_.dofs();
+  const double dt = trial.time - c.time;
+  if (last_dt_ <= 0 || dt <= 0) return at_start;
+  double work = 0;
+  for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
+  if (only_) par::broadcast(std::span<double>(&work, 1));  // one decision for all ranks
+  if (!(work > 0)) {
+    log_.detail("  predictor: the load reverses (no work on the last increment); no extrapolation");
+    return at_start;
+  }
+  const double scale = dt / last_dt_;
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
+  points_.begin_step(c, trial);  // the extrapolated start is the step's iteration 0
+  Evaluation ev = evaluate(c, trial, false);
+  ev.points.tangent_changed = ev.points.tangent_changed || at_start.points.tangent_changed;
+  log_.detail(
+      "  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
+      "(from the converged state {:.3e})",
+      scale, std::sqrt(ev.r2), std::sqrt(at_start.r2));
+  return ev;
+}
+
+/// The iteration's log line (and the contact's).
+void Equilibrium::report(const StepOutcome& out) const {
+  if (plastic_) {
+    log_.detail(
+        "  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
+        "points {}",
+        out.iterations, out.residual, out.delta_sigma, out.delta_eps, out.plastic_points);
+  } else {
+    log_.detail("  iteration {}: relative residual {:.3e}", out.iterations, out.residual);
+  }
+  if (contact_.active()) {
+    const ContactProgress& cp = contact_.progress();
+    log_.detail("    contact: {} nodes{}{}, largest |gap| {:.2e} of the allowed", cp.in_contact,
+                cp.set_changed ? ", set changed" : "", cp.kappa_raised ? ", κ raised" : "",
+                cp.worst_gap);
+  }
+}
+
+/// Every measure within the tolerance, after at least one solve.
+bool Equilibrium::converged(const StepOutcome& out) const {
+  const double tol = m_.spec().solver.tolerance;
+  const bool measures_ok = !plastic_ || (out.delta_sigma <= tol && out.delta_eps <= tol);
+  const bool contact_ok = !contact_.active() || contact_.progress().converged();
+  return out.iterations >= 1 && out.residual <= tol && measures_ok && contact_ok;
+}
+
+/// The checks a converged iterate must pass before it is the answer of the step.
+void Equilibrium::accept(const State& c, State& trial, double scale, StepOutcome& out) {
+  const auto& spec = m_.spec().solver;
+  // The reported residual is the true equilibrium defect F − F_int (γ only shifts the target).
+  out.residual = scale > 0 ? equilibrium_defect(trial) / scale : 0.0;
+  // Small strains: an equilibrium found with displacements of the order of the body is a
+  // mechanism (a load at or above the plastic limit load), not an answer.
+  if (plastic_) {
+    double u_max = 0;
+    for (int n = 0; n < m_.mesh().n_nodes(); ++n)
+      u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
+    if (u_max > spec.mechanism_limit * model_size_) {
+      throw SolveError(fmt::format(
+          "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g} "
+          "(solver.mechanism_limit): the body has become a mechanism (the load is at or "
+          "above the plastic limit load), which a small-strain analysis cannot follow",
+          u_max, 100 * spec.mechanism_limit, model_size_));
+    }
+  }
+  // Never "converged" with a NaN or an infinity anywhere in the answer.
+  if (par::any(!all_finite(trial))) throw_not_finite(m_, trial, out.iterations, out.residual);
+  if (extrapolate_) remember_increment(c, trial);
+}
+
+/// The next iterate: a new matrix when the scheme's rule or the contact asks for one, the
+/// solve, the acceleration.
+void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, double residual,
+                          double& previous_residual) {
+  const auto& dofs = m_.dofs();
+  const auto& spec = m_.spec().solver;
+  const bool new_elements =
+      !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
+      (ev.points.tangent_changed &&
+       (options_.matrix_per_iteration() || (options_.matrix_per_step() && iteration <= 1)));
+  const bool refactor = new_elements || contact_.matrix_stale(trial);
+  if (refactor) assemble_and_factorize(trial, new_elements);
+  // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
+  // tolerance, not to its own default (an inexact Newton method with a fixed forcing term,
+  // after Eisenstat and Walker): the error it leaves is a thousandth of what convergence
+  // allows, and the residual recomputed from the points still decides.
+  if (residual > 0) system_.set_relative_tolerance(1e-3 * spec.tolerance / residual);
+  auto t0 = Clock::now();
+  system_.solve(rhs_, delta_);
+  if (!options_checked_) {
+    // PETSc ignores options it does not know: say so once it has read them (at set-up).
+    options_checked_ = true;
+    for (const auto& name : system_.unused_options())
+      log_.warn(fmt::format(
+          "PETSc option '{}' was not used (misspelt, or for a solver that is not in use)", name));
+  }
+  timings_.solve += seconds_since(t0);
+  if (spec.anderson) {
+    // A new matrix is a new fixed-point map, and a step that doubled the residual left the
+    // region where the history describes it: start the history again from here.
+    if (refactor || residual > 2 * previous_residual) anderson_.reset();
+    previous_residual = residual;
+    free_u_.resize(dofs.n_free);
+    for (int i = 0; i < dofs.n_dofs(); ++i)
+      if (int k = dofs.eq[i]; k >= 0) free_u_[k] = trial.u[i];
+    anderson_.accelerate(free_u_, delta_);
+  }
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) trial.u[i] += delta_[k];
+}
+
+/// rhs_ = target + F_contact − F_int on the free dofs for the evaluated iterate (the support's
+/// forces computed here, into trial.f_contact); returns its squared norm, and in *loads2 (when
+/// given) that of target − F_int, the residual without the supports.
+double Equilibrium::residual_vector(State& trial, double* loads2) {
+  const auto& dofs = m_.dofs();
+  if (contact_.active()) {
+    const auto t0 = Clock::now();
+    contact_.forces(trial);
+    timings_.contact += seconds_since(t0);
+  }
+  double r2 = 0, l2 = 0;
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) {
+      const double loads = target_[i] - trial.f_int[i];
+      rhs_[k] = loads + trial.f_contact[i];
+      r2 += rhs_[k] * rhs_[k];
+      l2 += loads * loads;
+    }
+  if (loads2) *loads2 = l2;
+  return r2;
+}
+
+double Equilibrium::equilibrium_defect(const State& s) const {
+  double r = 0;
+  for (int i = 0; i < m_.dofs().n_dofs(); ++i)
+    if (m_.dofs().eq[i] >= 0) {
+      const double d = s.f_ext[i] + s.f_contact[i] - s.f_int[i];
+      r += d * d;
+    }
+  return std::sqrt(r);
+}
+
+/// Keeps the free part of a converged step's displacement increment for the next predictor.
+void Equilibrium::remember_increment(const State& c, const State& trial) {
+  const auto& dofs = m_.dofs();
+  last_du_.assign(dofs.n_free, 0.0);
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) last_du_[k] = trial.u[i] - c.u[i];
+  last_dt_ = trial.time - c.time;
+}
+
+/// Assembles the matrix (the elements' part only when `new_elements` or when it was never
+/// kept: a change of the contact alone starts from the elements' part of the last assembly)
+/// and factorizes it.
+void Equilibrium::assemble_and_factorize(const State& trial, bool new_elements) {
+  auto t0 = Clock::now();
+  if (new_elements || !contact_.active() || !system_.restore_cells()) {
+    const auto& tangents = points_.tangents();
+    system_.assemble_cells(
+        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, e, b); });
+    if (contact_.active()) system_.keep_cells();
+  }
+  if (contact_.active())
+    contact_.add_matrix(trial,
+                        [&](int a, int b, const Mat3& block) { system_.add_block(a, b, block); });
+  timings_.assembly += seconds_since(t0);
+  factorize();
+}
+
+void Equilibrium::factorize() {
+  const auto t0 = Clock::now();
+  try {
+    system_.factorize();
+  } catch (const LinearSystemError& e) {
+    if (negative_secant_cell_ < 0) throw;
+    // variable-stiffness with a negative secant: say why the matrix is indefinite (a plain
+    // SolveError: the step failed, the supports are not to blame).
+    throw SolveError(fmt::format(
+        "{}: scheme 'variable-stiffness' has a negative secant slope of the curve of material "
+        "'{}' at element {} (the stress at the start of the step lies above the curve along "
+        "the step's flow direction, as a strong turn of the stress under an indenter leaves "
+        "it); use newton or initial-stress",
+        e.what(), m_.material_of(negative_secant_cell_).spec->name,
+        m_.mesh().cells.tag[negative_secant_cell_]));
+  }
+  ++factorizations_;
+  factorized_ = true;
+  timings_.factorization += seconds_since(t0);
+}
+
+}  // namespace hencky

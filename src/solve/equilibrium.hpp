@@ -1,0 +1,95 @@
+#pragma once
+// The equilibrium iteration of one load step (report section 2): the target (2.29)-(2.30),
+// the evaluation of an iterate (points, contact, residual, measures), the convergence test,
+// and the advance to the next iterate (matrix when it changed, solve, acceleration). The step
+// control (step_control.cpp) decides which steps to take; this decides whether one converges.
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "linalg/linear_system.hpp"
+#include "solve/anderson.hpp"
+#include "solve/contact_step.hpp"
+#include "solve/point_pass.hpp"
+#include "solve/state.hpp"
+
+namespace hencky {
+
+/// How a step ended, or how far it got: the figures of its last iterate.
+struct StepOutcome {
+  int iterations = 0;
+  double residual = 0;     ///< relative; at convergence the true equilibrium defect
+  double delta_sigma = 0;  ///< the scheme's Δ^σ (0 without plasticity)
+  double delta_eps = 0;
+  int plastic_points = 0;
+};
+
+class Equilibrium {
+ public:
+  Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings);
+
+  /// The initial state: undeformed, stress-free, at T_ref, no load.
+  State initial_state() const;
+
+  /// One step from `c` (committed at c.time) to time t1. Returns true when it converged and
+  /// fills `trial`; `out` describes the last iterate either way (also when it throws).
+  /// Throws SolveError (and LinearSystemError) when the step cannot go on.
+  bool step(const State& c, double t1, State& trial, StepOutcome& out);
+
+  int factorizations() const { return factorizations_; }
+  /// Warnings after a converged step (curves left, temperatures outside tables). Collective.
+  void check_curves(const State& s) const { points_.check_curves(s, log_); }
+  /// Why the contact kept a failed step from converging (empty without contact).
+  std::string contact_diagnosis() const { return contact_.diagnosis(); }
+  /// The contact line of a converged step's log entry (empty without contact).
+  std::string contact_summary(const State& s) const {
+    return contact_.active() ? contact_.summary(s) : std::string();
+  }
+
+ private:
+  /// An evaluated iterate: what its point pass found and its squared residual norms.
+  struct Evaluation {
+    PointPassResult points;
+    double r2 = 0;        ///< ‖target + F_contact − F_int‖² on the free dofs (rhs_ holds it)
+    double r_loads2 = 0;  ///< the same without the supports' forces
+  };
+
+  void begin(const State& c, double t1, State& trial);
+  Evaluation evaluate(const State& c, State& trial, bool update_contact);
+  Evaluation predict(const State& c, State& trial, const Evaluation& at_start);
+  void report(const StepOutcome& out) const;
+  bool converged(const StepOutcome& out) const;
+  void accept(const State& c, State& trial, double scale, StepOutcome& out);
+  void advance(State& trial, const Evaluation& ev, int iteration, double residual,
+               double& previous_residual);
+  double residual_vector(State& trial, double* loads2 = nullptr);
+  double equilibrium_defect(const State& s) const;
+  void remember_increment(const State& c, const State& trial);
+  void assemble_and_factorize(const State& trial, bool new_elements);
+  void factorize();
+
+  const Model& m_;
+  LinearSystem& system_;
+  Log& log_;
+  Timings& timings_;
+  const std::vector<char>* only_;  ///< this rank's cells, on more than one rank
+  bool plastic_;
+  SchemeOptions options_;
+  PointPass points_;
+  ContactStep contact_;
+  bool matrix_changes_with_temperature_ = false;
+  bool factorized_ = false;
+  bool options_checked_ = false;  ///< unused options of the back end were reported
+  int factorizations_ = 0;
+  double model_size_ = 0;          ///< diagonal of the mesh's bounding box
+  int negative_secant_cell_ = -1;  ///< of the last point pass, for factorize's message
+  std::vector<double> target_, rhs_, delta_, free_u_;
+  // newton's predictor (solver.predictor): the last converged increment of the free unknowns
+  // and its Δt
+  bool extrapolate_ = false;
+  std::vector<double> last_du_;
+  double last_dt_ = 0;
+  Anderson anderson_{5};  ///< solver.acceleration: anderson
+};
+
+}  // namespace hencky

@@ -1,0 +1,215 @@
+#include "solve/point_pass.hpp"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <climits>
+#include <cmath>
+
+#include "fem/reference_element.hpp"
+#include "parallel/mpi.hpp"
+#include "solve/element_matrix.hpp"
+
+namespace hencky {
+
+PointPass::PointPass(const Model& m, const std::vector<char>* only, const SchemeOptions& options)
+    : m_(m), only_(only), plastic_(m.has_plasticity()), options_(options) {
+  if (!plastic_) return;
+  const int n = m.n_points();
+  point_step_.resize(n);
+  point_iter_.resize(n);
+  tangent_.assign(n, Tangent{});
+  defect_sigma_.assign(n, 0.0);
+  defect_eps_.assign(n, 0.0);
+  point_volume_.assign(n, 0.0);
+  const auto& mesh = m.mesh();
+  CellKinematics kin;
+  Vec3 x[max_cell_nodes];
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    if (!m.holds_points(e)) continue;
+    const auto nodes = mesh.cells.nodes(e);
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
+    for (int q = 0; q < kin.points; ++q) point_volume_[m.point_offset(e) + q] = kin.dv[q];
+  }
+}
+
+void PointPass::temperatures(State& s, Log& log) const {
+  const auto& mesh = m_.mesh();
+  s.temperature.resize(m_.n_points());
+  s.constants.resize(m_.n_points());
+  const int n_mat = static_cast<int>(m_.materials().size());
+  std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY);
+  int bad_cell = -1;  // the first cell with a temperature whose thermal strain overflows
+  double bad_T = 0;
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    if (!m_.holds_points(e)) continue;
+    const auto nodes = mesh.cells.nodes(e);
+    const auto& tab = reference_table(mesh.cells.type[e]);
+    const auto& mat = m_.material_of(e);
+    const int mi = m_.material_index(e);
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+      double T = 0;
+      for (std::size_t a = 0; a < nodes.size(); ++a) T += N[a] * s.nodal_temperature[nodes[a]];
+      const int p = m_.point_offset(e) + q;
+      s.temperature[p] = T;
+      s.constants[p] = mat.at(T);
+      if (bad_cell < 0 && !m_.thermal_in_range(mi, s.constants[p], T)) bad_cell = e, bad_T = T;
+      t_min[mi] = std::min(t_min[mi], T);
+      t_max[mi] = std::max(t_max[mi], T);
+    }
+  }
+  // An input error, before the step is solved; every rank reports the model's first such cell.
+  if (const int first = par::min(bad_cell < 0 ? INT_MAX : bad_cell); first != INT_MAX) {
+    double T = first == bad_cell ? bad_T : -INFINITY;
+    par::max_in_place(std::span<double>(&T, 1));
+    m_.thermal_out_of_range(first, T, s.time);
+  }
+  par::min_in_place(std::span<double>(t_min));
+  par::max_in_place(std::span<double>(t_max));
+  for (int k = 0; k < n_mat; ++k)
+    if (t_min[k] <= t_max[k]) m_.materials()[k].warn_outside(t_min[k], t_max[k], log);
+}
+
+/// Per point, what stays fixed during the step (flow direction, start slope, the curve at
+/// t+Δt) and the scheme's initial parameters.
+void PointPass::begin_step(const State& c, const State& trial) {
+  const auto& mesh = m_.mesh();
+  const int n_cells = mesh.cells.size();
+#pragma omp parallel for schedule(static) if (n_cells > 4000)
+  for (int e = 0; e < n_cells; ++e) {
+    const auto& mat = m_.material_of(e);
+    if (!mat.plastic() || !mine(e)) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
+      point_step_[p] = begin_point_step(options_, trial.constants[p], *mat.hardening,
+                                        trial.temperature[p], mat.elastic_unloading, c.stress[p],
+                                        c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
+  }
+}
+
+/// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
+/// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
+PointPassResult PointPass::update(const State& c, State& trial) {
+  const auto& mesh = m_.mesh();
+  trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
+  std::atomic<bool> changed{false};
+  std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1};
+  m_.assembler().vector(
+      [&](int e, CellBuffers& b) {
+        const auto nodes = mesh.cells.nodes(e);
+        const int n = static_cast<int>(nodes.size());
+        const bool plastic = m_.material_of(e).plastic();
+        Vec3 x[max_cell_nodes];
+        double du[3 * max_cell_nodes];
+        for (int a = 0; a < n; ++a) {
+          x[a] = mesh.x[nodes[a]];
+          for (int d = 0; d < 3; ++d)
+            du[3 * a + d] = trial.u[3 * nodes[a] + d] - c.u[3 * nodes[a] + d];
+        }
+        CellKinematics& kin = thread_kinematics();
+        kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+        for (int q = 0; q < kin.points; ++q) {
+          const int p = m_.point_offset(e) + q;
+          const Voigt d_eps = kin.strain(q, du);
+          if (!plastic) {
+            trial.stress[p] =
+                elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
+                                      trial.temperature[p], c.stress[p], d_eps);
+          } else {
+            const Voigt d_mech = d_eps - thermal_strain_increment(
+                                             c.constants[p], c.temperature[p], trial.constants[p],
+                                             trial.temperature[p], c.stress[p]);
+            const PointUpdate u = evaluate_point(options_, trial.constants[p], point_step_[p],
+                                                 point_iter_[p], c.stress[p], d_mech);
+            if (u.undefined) {
+              int none = -1;
+              undefined_cell.compare_exchange_strong(none, e);
+              trial.stress[p] = c.stress[p];
+              continue;
+            }
+            if (u.negative_secant) {
+              int none = -1;
+              negative_secant_cell.compare_exchange_strong(none, e);
+            }
+            trial.stress[p] = u.sigma;
+            trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
+            trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
+            trial.eps_ep[p] = u.eps_ep;
+            trial.eps_ep_max[p] = std::max(c.eps_ep_max[p], u.eps_ep);
+            trial.flowing[p] = u.plastic;
+            defect_sigma_[p] = u.defect_sigma;
+            defect_eps_[p] = u.defect_eps;
+            const Tangent& old = tangent_[p];
+            if (old.dev_scale != u.tangent.dev_scale || old.coef != u.tangent.coef ||
+                old.v != u.tangent.v) {
+              tangent_[p] = u.tangent;
+              changed.store(true, std::memory_order_relaxed);
+            }
+          }
+          kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
+        }
+      },
+      trial.f_int, only_);
+  // Every rank takes the same decisions: the flags and the failing cells over all ranks.
+  PointPassResult r;
+  r.undefined_cell = par::max(undefined_cell.load());
+  r.negative_secant_cell = par::max(negative_secant_cell.load());
+  r.tangent_changed = par::any(changed.load());
+  if (only_) par::sum_in_place(std::span<double>(trial.f_int));
+  if (plastic_ && r.undefined_cell < 0) measures(trial, r);
+  return r;
+}
+
+/// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the
+/// points' numerators over that of σ̃ (resp. ε̃^{e+p}) over the plastic materials.
+void PointPass::measures(const State& trial, PointPassResult& r) const {
+  double ns = 0, ds = 0, ne = 0, de = 0;
+  int n_plastic = 0;
+  const auto& mesh = m_.mesh();
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    if (!m_.material_of(e).plastic() || !mine(e)) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+      const double w = point_volume_[p], q = von_mises(trial.stress[p]);
+      ns += w * defect_sigma_[p] * defect_sigma_[p];
+      ds += w * q * q;
+      ne += w * defect_eps_[p] * defect_eps_[p];
+      de += w * trial.eps_ep[p] * trial.eps_ep[p];
+      n_plastic += trial.flowing[p];
+    }
+  }
+  double sums[5] = {ns, ds, ne, de, static_cast<double>(n_plastic)};
+  par::sum_in_place(std::span<double>(sums));
+  ns = sums[0], ds = sums[1], ne = sums[2], de = sums[3];
+  n_plastic = static_cast<int>(sums[4]);
+  r.delta_sigma = ds > 0 ? std::sqrt(ns / ds) : 0.0;
+  r.delta_eps = de > 0 ? std::sqrt(ne / de) : 0.0;
+  r.plastic_points = n_plastic;
+}
+
+/// Warnings about the curves after a converged step: temperatures outside their tables,
+/// plastic strains beyond their last point. Collective.
+void PointPass::check_curves(const State& s, Log& log) const {
+  if (!plastic_) return;
+  const auto& mesh = m_.mesh();
+  const int n_mat = static_cast<int>(m_.materials().size());
+  std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY), e_max(n_mat, 0.0);
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    const int mi = m_.material_index(e);
+    if (!m_.materials()[mi].plastic()) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+      t_min[mi] = std::min(t_min[mi], s.temperature[p]);
+      t_max[mi] = std::max(t_max[mi], s.temperature[p]);
+      e_max[mi] = std::max(e_max[mi], s.eps_p_eq[p]);
+    }
+  }
+  // Root warns for the whole model (the log is silent on the other ranks).
+  par::min_in_place(std::span<double>(t_min));
+  par::max_in_place(std::span<double>(t_max));
+  par::max_in_place(std::span<double>(e_max));
+  for (int k = 0; k < n_mat; ++k)
+    if (const auto& mat = m_.materials()[k]; mat.plastic() && t_min[k] <= t_max[k])
+      mat.hardening->warn_outside(mat.spec->name, t_min[k], t_max[k], e_max[k], log);
+}
+
+}  // namespace hencky

@@ -1,0 +1,61 @@
+#pragma once
+// The integration points' part of an iteration: the temperatures and E, ν, α at the points,
+// what the scheme keeps fixed at each point during a step (begin_step), and the point update
+// with the internal forces (update), which returns what it found instead of leaving flags.
+#include <vector>
+
+#include "core/log.hpp"
+#include "solve/model.hpp"
+#include "solve/schemes.hpp"
+#include "solve/state.hpp"
+
+namespace hencky {
+
+/// What one point pass found, the same on every rank.
+struct PointPassResult {
+  bool tangent_changed = false;   ///< a plastic point's matrix differs from the last pass's
+  int undefined_cell = -1;        ///< a cell whose scheme needed F above the curve, or -1
+  int negative_secant_cell = -1;  ///< a cell with a negative variable-stiffness secant, or -1
+  double delta_sigma = 0;         ///< the scheme's Δ^σ (0 without plasticity)
+  double delta_eps = 0;           ///< the scheme's Δ^ε
+  int plastic_points = 0;         ///< points that flow plastically in this iterate
+};
+
+class PointPass {
+ public:
+  /// `only`: this rank's cells (nullptr: every cell).
+  PointPass(const Model& m, const std::vector<char>* only, const SchemeOptions& options);
+
+  /// The points' temperatures and E, ν, α at s.time from s.nodal_temperature. Throws an
+  /// InputError when a thermal strain leaves the range of floating point; warns (once per
+  /// material) about temperatures outside its tables. Collective.
+  void temperatures(State& s, Log& log) const;
+  /// Per plastic point, what stays fixed during the step to `trial` (flow direction, start
+  /// slope, the curve at t+Δt) and the scheme's initial parameters.
+  void begin_step(const State& c, const State& trial);
+  /// Stresses, plastic state and internal forces of the iterate trial.u (elastic points:
+  /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
+  /// the scheme's matrices for the next solve, and the measures. Collective.
+  PointPassResult update(const State& c, State& trial);
+  /// The scheme's matrix at each point, from the last update (plastic materials only).
+  const std::vector<Tangent>& tangents() const { return tangent_; }
+  /// Warnings about the curves after a converged step: temperatures outside their tables,
+  /// plastic strains beyond their last point. Collective.
+  void check_curves(const State& s, Log& log) const;
+
+ private:
+  /// Δ^σ and Δ^ε of the report into r, made global.
+  void measures(const State& trial, PointPassResult& r) const;
+  bool mine(int e) const { return !only_ || (*only_)[e]; }
+
+  const Model& m_;
+  const std::vector<char>* only_;
+  bool plastic_;
+  SchemeOptions options_;
+  std::vector<PointStep> point_step_;
+  std::vector<PointIteration> point_iter_;
+  std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update
+  std::vector<double> defect_sigma_, defect_eps_, point_volume_;
+};
+
+}  // namespace hencky

@@ -1,0 +1,149 @@
+// Step control: which steps to take (the case's times, one at a time), cut-back of a step that
+// fails, the log line and the observer of every converged step. Whether a step converges is
+// the equilibrium iteration's business (equilibrium.hpp).
+#include <fmt/format.h>
+
+#include <chrono>
+#include <deque>
+
+#include "solve/analysis.hpp"
+#include "solve/equilibrium.hpp"
+#include "solve/recovery.hpp"
+
+namespace hencky {
+namespace {
+
+/// Targets still to reach, each with its cut-back depth: a step that fails is replaced by two
+/// half steps one level deeper, down to `cutback` levels; the run then stops (status 2). The
+/// case's step times are taken one at a time (a case may have a million steps): the queue
+/// holds the current one and the cut-back targets before it.
+class StepTargets {
+ public:
+  explicit StepTargets(const StepTimes& times) : times_(times) { take_next(); }
+  bool empty() const { return queue_.empty(); }
+  double time() const { return queue_.front().time; }
+  int depth() const { return queue_.front().depth; }
+  /// The front target is reached: on to the next.
+  void reached() {
+    queue_.pop_front();
+    take_next();
+  }
+  /// Half the way from `from` to the front target, one level deeper.
+  void cut_back(double mid) {
+    queue_.front().depth += 1;
+    queue_.push_front({mid, queue_.front().depth});
+  }
+
+ private:
+  struct Target {
+    double time;
+    int depth;
+  };
+  void take_next() {
+    if (queue_.empty() && next_ < times_.size()) queue_.push_back({times_[next_++], 0});
+  }
+  const StepTimes& times_;
+  std::size_t next_ = 0;
+  std::deque<Target> queue_;
+};
+
+/// One attempt at the step to t1: true when it converged; `why` says why not. Input errors
+/// found by the attempt (options PETSc cannot use, a body not held) are thrown as such.
+bool attempt(const Model& model, Equilibrium& eq, const State& committed, double t1, State& trial,
+             bool first_step, StepOutcome& out, std::string& why) {
+  try {
+    if (eq.step(committed, t1, trial, out)) return true;
+    why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", out.iterations,
+                      out.residual);
+    if (const std::string c = eq.contact_diagnosis(); !c.empty()) why += "; " + c;
+  } catch (const SolverOptionsError& e) {
+    throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
+                     std::string(e.what()) +
+                         ": PETSc cannot set the solver up with the options given "
+                         "(solver.petsc_options, --petsc or PETSC_OPTIONS)");
+  } catch (const LinearSystemError& e) {
+    // The first solve of the analysis: the matrix of the elastic body itself cannot be
+    // solved, the supports do not hold it.
+    if (first_step && out.iterations == 0)
+      throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},
+                       std::string(e.what()) +
+                           ": the body is not held against rigid-body motion (translations "
+                           "and rotations); check the displacement conditions");
+    why = e.what();
+  } catch (const SolveError& e) {
+    why = e.what();
+  }
+  return false;
+}
+
+/// The log lines of a converged step.
+void log_step(const Model& model, const Equilibrium& eq, const StepReport& report,
+              const State& committed, Log& log) {
+  if (model.has_plasticity()) {
+    log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
+             report.step, report.time, report.iterations, report.residual, report.plastic_points);
+    eq.check_curves(committed);
+  } else {
+    log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}", report.step,
+             report.time, report.iterations, report.residual);
+  }
+  if (const std::string line = eq.contact_summary(committed); !line.empty())
+    log.info("           {}", line);
+}
+
+}  // namespace
+
+AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
+                            StepObserver& observer) {
+  const auto& spec = model.spec().solver;
+  Equilibrium eq(model, system, log, timings);
+  State committed = eq.initial_state(), trial = committed;
+  AnalysisResult result;
+  StepTargets targets(spec.times);
+  int factorizations_before = 0;
+  while (!targets.empty()) {
+    const double t1 = targets.time();
+    const int depth = targets.depth();
+    StepOutcome out;
+    std::string why;
+    const bool ok = attempt(model, eq, committed, t1, trial, result.steps == 0, out, why);
+    result.iterations += out.iterations;
+    if (!ok) {
+      const double mid = 0.5 * (committed.time + t1);
+      if (depth < spec.cutback && mid > committed.time && mid < t1) {
+        log.info("step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
+        targets.cut_back(mid);
+        continue;
+      }
+      result.status = AnalysisStatus::not_converged;
+      result.factorizations = eq.factorizations();
+      result.failure =
+          fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1, depth, why);
+      log.info("{}", result.failure);
+      return result;
+    }
+    targets.reached();
+    std::swap(committed, trial);
+    ++result.steps;
+    StepReport report;
+    report.step = result.steps;
+    report.time = t1;
+    report.iterations = out.iterations;
+    report.residual = out.residual;
+    report.delta_sigma = out.delta_sigma;
+    report.delta_eps = out.delta_eps;
+    report.factorizations = eq.factorizations() - factorizations_before;
+    report.plastic_points = out.plastic_points;
+    report.last = targets.empty();
+    report.write_fields = report.last || report.step % model.spec().output.every == 0;
+    factorizations_before = eq.factorizations();
+    result.factorizations = eq.factorizations();
+    log_step(model, eq, report, committed, log);
+    const auto t0 = std::chrono::steady_clock::now();
+    observer.step_done(report, committed, recover_fields(model, committed, report.write_fields));
+    timings.output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return result;
+}
+
+}  // namespace hencky
