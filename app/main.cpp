@@ -154,7 +154,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   summary["steps"] = result.steps;
   summary["iterations"] = result.iterations;
   summary["factorizations"] = result.factorizations;
-  summary["scheme"] = c.solver.scheme;
+  summary["scheme"] = scheme_name(c.solver.scheme);
   summary["dofs"] = model.dofs().n_free;
   summary["nodes"] = model.mesh().n_nodes();
   summary["elements"] = model.mesh().cells.size();

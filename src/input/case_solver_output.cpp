@@ -8,6 +8,7 @@
 #include "core/suggest.hpp"
 #include "input/case_sections.hpp"
 #include "parallel/mpi.hpp"
+#include "solve/schemes.hpp"
 
 namespace hencky::case_input {
 
@@ -19,9 +20,7 @@ const std::vector<std::string> solver_keys = {
     "scheme",         "curve_form",      "steps",      "end",          "times",
     "max_iterations", "tolerance",       "relaxation", "correction",   "cutback",
     "linear",         "mechanism_limit", "predictor",  "acceleration", "petsc_options"};
-const std::vector<std::string> schemes = {"newton",         "variable-stiffness",
-                                          "initial-strain", "initial-strain-stiffness",
-                                          "initial-stress", "initial-stress-stiffness"};
+const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> predictors = {"extrapolate", "none"};
 const std::vector<std::string> accelerations = {"none", "anderson"};
@@ -83,18 +82,24 @@ StepTimes read_step_times(const Reader& r, const Map& m, const Val& v) {
   return StepTimes::equal(steps, end);
 }
 
+/// The enumerator at the position of `name` in `names` (a choice the reader accepted).
+template <class E>
+E index_of(const std::vector<std::string>& names, const std::string& name, E) {
+  return static_cast<E>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
 /// acceleration: none or anderson, where the iteration is a fixed map.
 void read_acceleration(const Reader& r, const Val& x, bool has_contact, SolverSpec& s) {
   s.anderson = r.choice(x, accelerations, "acceleration") == "anderson";
   // Anderson mixing needs a fixed map u -> u + K^-1 r(u): a fixed matrix, and a point law that
   // depends on the iterate only (the initial-strain schemes carry their relaxed initial strain
   // from one iteration to the next).
-  if (s.anderson && s.scheme != "initial-stress" && s.scheme != "initial-stress-stiffness")
+  if (s.anderson && !make_scheme(s.scheme, s.curve_form, s.relaxation)->allows_acceleration())
     r.fail(x,
            "acceleration: anderson applies to the schemes initial-stress and "
            "initial-stress-stiffness (a fixed matrix and a point law of the iterate alone), "
            "not to '" +
-               s.scheme + "'");
+               std::string(scheme_name(s.scheme)) + "'");
   // The contact's augmented forces are memory of the same kind (measured: Anderson needed
   // 155 iterations where the plain iteration needed 89 on a plastic indentation).
   if (s.anderson && has_contact)
@@ -128,8 +133,9 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
   SolverSpec s;
   if (!v) return s;
   Map m(r, *v, solver_keys);
-  if (auto x = m.get("scheme")) s.scheme = r.choice(*x, schemes, "scheme");
-  if (auto x = m.get("curve_form")) s.curve_form = r.choice(*x, curve_forms, "curve form");
+  if (auto x = m.get("scheme")) s.scheme = index_of(schemes, r.choice(*x, schemes, "scheme"), s.scheme);
+  if (auto x = m.get("curve_form"))
+    s.curve_form = index_of(curve_forms, r.choice(*x, curve_forms, "curve form"), s.curve_form);
   s.times = read_step_times(r, m, *v);
   if (auto x = m.get("max_iterations")) s.max_iterations = r.integer_at_least(*x, 1);
   if (auto x = m.get("tolerance")) {

@@ -24,14 +24,6 @@ double norm(const std::vector<double>& v) {
   return std::sqrt(s);
 }
 
-SchemeOptions scheme_options(const SolverSpec& s) {
-  SchemeOptions o;
-  o.kind = scheme_from_name(s.scheme);
-  o.strain_form = s.curve_form == "strain";
-  o.omega = s.relaxation;
-  return o;
-}
-
 /// The diagonal of the mesh's bounding box.
 double model_size(const Mesh& mesh) {
   Vec3 lo = mesh.x.front(), hi = lo;
@@ -53,8 +45,9 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
       // summed over the ranks.
       only_(system.own_cells()),
       plastic_(m.has_plasticity()),
-      options_(scheme_options(m.spec().solver)),
-      points_(m, only_, options_),
+      scheme_(make_scheme(m.spec().solver.scheme, m.spec().solver.curve_form,
+                          m.spec().solver.relaxation)),
+      points_(m, only_, *scheme_),
       contact_(m) {
   // A rank stores the points of the cells it holds and works on its own cells: these must
   // agree (make_run_solver makes the model hold the partition's cells).
@@ -64,7 +57,7 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // Not with contact: extrapolating a long step after short ones pushes the nodes near the
   // contact far into the surfaces (8 increments deep on a plastic indentation, where the
   // step then failed; from the converged state it took 10 iterations).
-  extrapolate_ = plastic_ && options_.kind == SchemeKind::newton && m.spec().solver.extrapolate &&
+  extrapolate_ = plastic_ && scheme_->kind() == SchemeKind::newton && m.spec().solver.extrapolate &&
                  m.contacts().empty();
   if (plastic_) model_size_ = model_size(m.mesh());
   if (m.has_temperature())
@@ -177,7 +170,7 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
         "largest stress the curve reaches (element {}): F is not defined there (perfect "
         "plasticity, a table's flat end). Use initial-stress, initial-stress-stiffness, "
         "variable-stiffness with curve_form: stress, or newton",
-        scheme_name(options_.kind), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
+        scheme_->name(), m_.material_of(e).spec->name, m_.mesh().cells.tag[e]));
   if (contact_.active() && update_contact) {
     t0 = Clock::now();
     contact_.update(c, trial);
@@ -279,10 +272,11 @@ void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, dou
                           double& previous_residual) {
   const auto& dofs = m_.dofs();
   const auto& spec = m_.spec().solver;
+  const MatrixPolicy policy = scheme_->matrix_policy();
   const bool new_elements =
       !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
-      (ev.points.tangent_changed &&
-       (options_.matrix_per_iteration() || (options_.matrix_per_step() && iteration <= 1)));
+      (ev.points.tangent_changed && (policy == MatrixPolicy::per_iteration ||
+                                     (policy == MatrixPolicy::per_step && iteration <= 1)));
   const bool refactor = new_elements || contact_.matrix_stale(trial);
   if (refactor) assemble_and_factorize(trial, new_elements);
   // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's

@@ -3,6 +3,7 @@
 // the evaluation of an iterate (points, contact, residual, measures), the convergence test,
 // and the advance to the next iterate (matrix when it changed, solve, acceleration). The step
 // control (step_control.cpp) decides which steps to take; this decides whether one converges.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -74,7 +75,7 @@ class Equilibrium {
   Timings& timings_;
   const std::vector<char>* only_;  ///< this rank's cells, on more than one rank
   bool plastic_;
-  SchemeOptions options_;
+  std::unique_ptr<Scheme> scheme_;
   PointPass points_;
   ContactStep contact_;
   bool matrix_changes_with_temperature_ = false;

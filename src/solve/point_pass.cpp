@@ -12,8 +12,8 @@
 
 namespace hencky {
 
-PointPass::PointPass(const Model& m, const std::vector<char>* only, const SchemeOptions& options)
-    : m_(m), only_(only), plastic_(m.has_plasticity()), options_(options) {
+PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme& scheme)
+    : m_(m), only_(only), plastic_(m.has_plasticity()), scheme_(scheme) {
   if (!plastic_) return;
   const int n = m.n_points();
   point_step_.resize(n);
@@ -82,9 +82,9 @@ void PointPass::begin_step(const State& c, const State& trial) {
     const auto& mat = m_.material_of(e);
     if (!mat.plastic() || !mine(e)) continue;
     for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
-      point_step_[p] = begin_point_step(options_, trial.constants[p], *mat.hardening,
-                                        trial.temperature[p], mat.elastic_unloading, c.stress[p],
-                                        c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
+      point_step_[p] = scheme_.begin_point_step(
+          trial.constants[p], *mat.hardening, trial.temperature[p], mat.elastic_unloading,
+          c.stress[p], c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
   }
 }
 
@@ -120,14 +120,15 @@ PointPassResult PointPass::update(const State& c, State& trial) {
             const Voigt d_mech = d_eps - thermal_strain_increment(
                                              c.constants[p], c.temperature[p], trial.constants[p],
                                              trial.temperature[p], c.stress[p]);
-            const PointUpdate u = evaluate_point(options_, trial.constants[p], point_step_[p],
-                                                 point_iter_[p], c.stress[p], d_mech);
+            const PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p],
+                                                   point_iter_[p], c.stress[p], d_mech);
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);
               trial.stress[p] = c.stress[p];
               continue;
             }
+            point_iter_[p] = u.next;
             if (u.negative_secant) {
               int none = -1;
               negative_secant_cell.compare_exchange_strong(none, e);

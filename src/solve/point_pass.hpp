@@ -24,7 +24,7 @@ struct PointPassResult {
 class PointPass {
  public:
   /// `only`: this rank's cells (nullptr: every cell).
-  PointPass(const Model& m, const std::vector<char>* only, const SchemeOptions& options);
+  PointPass(const Model& m, const std::vector<char>* only, const Scheme& scheme);
 
   /// The points' temperatures and E, ν, α at s.time from s.nodal_temperature. Throws an
   /// InputError when a thermal strain leaves the range of floating point; warns (once per
@@ -51,7 +51,7 @@ class PointPass {
   const Model& m_;
   const std::vector<char>* only_;
   bool plastic_;
-  SchemeOptions options_;
+  const Scheme& scheme_;
   std::vector<PointStep> point_step_;
   std::vector<PointIteration> point_iter_;
   std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update

@@ -1,41 +1,13 @@
 #include "solve/schemes.hpp"
 
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
 namespace hencky {
 
-namespace {
-struct Name {
-  SchemeKind kind;
-  const char* name;
-};
-constexpr Name names[] = {
-    {SchemeKind::newton, "newton"},
-    {SchemeKind::variable_stiffness, "variable-stiffness"},
-    {SchemeKind::initial_strain, "initial-strain"},
-    {SchemeKind::initial_strain_stiffness, "initial-strain-stiffness"},
-    {SchemeKind::initial_stress, "initial-stress"},
-    {SchemeKind::initial_stress_stiffness, "initial-stress-stiffness"},
-};
-}  // namespace
-
-SchemeKind scheme_from_name(const std::string& name) {
-  for (const auto& n : names)
-    if (name == n.name) return n.kind;
-  throw std::logic_error("unknown scheme '" + name + "' (the case reader admits only known ones)");
-}
-
-const char* scheme_name(SchemeKind kind) {
-  for (const auto& n : names)
-    if (kind == n.kind) return n.name;
-  return "?";
-}
-
-PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, const Hardening& h,
-                           double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
-                           bool flowing, PointIteration& it) {
+PointStep Scheme::begin_point_step(const ElasticConstants& k1, const Hardening& h, double T1,
+                                   bool elastic_unloading, const Voigt& sigma0, double eps_p0,
+                                   bool flowing, PointIteration& it) const {
   PointStep ps;
   const double three_g = 3 * k1.shear_modulus();
   ps.curve = StepCurve(h, T1, three_g, eps_p0, elastic_unloading);
@@ -49,7 +21,7 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, c
     // stress above σ̃(t) by more than round-off, the point is inside the elastic range: 3G.)
     double q0 = ps.z.dot(sigma0);
     if (q0 < ps.curve.yield_now && q0 >= ps.curve.yield_now * (1 - 1e-12)) q0 = ps.curve.yield_now;
-    if (s.uses_strain_form()) {
+    if (uses_strain_form()) {
       // tan β*_0 = 1 / F'(σ̃(t)), (2.34), (2.40); 0 where F is flat-ended (perfect plasticity).
       const double df = ps.curve.f(q0, true).slope;
       ps.tan0 = std::isfinite(df) && df > 0 ? 1 / df : 0.0;
@@ -59,15 +31,7 @@ PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, c
     }
   }
   it = PointIteration{};
-  switch (s.kind) {
-    case SchemeKind::variable_stiffness:
-    case SchemeKind::initial_strain_stiffness:
-    case SchemeKind::initial_stress_stiffness:
-      it.tan_beta = ps.tan0;
-      break;
-    default:
-      it.tan_beta = three_g;  // β* = β^e; Δσ^0_0 = 0 means β**_0 = β*
-  }
+  it.tan_beta = initial_tan_beta(ps.tan0, three_g);
   it.plastic_prev = false;
   it.tan_start = ps.tan0;
   return ps;
@@ -111,14 +75,68 @@ bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, double xt
 
 }  // namespace
 
-PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, const PointStep& ps,
-                           PointIteration& it, const Voigt& sigma0, const Voigt& x) {
-  const double three_g = ps.curve.three_g;
-  const Tangent elastic;
-  const Voigt dx = elastic.times(k1, x);  // D x
-  PointUpdate u;
+namespace {
 
-  if (s.kind == SchemeKind::newton) {
+/// What the five schemes of the report share once an iterate is evaluated along Z: the point
+/// moves along the flow direction z of the step, from ε̃^{e+p}(t) = eps0 by xt.
+struct AlongZ {
+  Voigt z;
+  double q0 = 0;    ///< σ̃(t) seen along Z
+  double eps0 = 0;  ///< ε̃^{e+p}(t)
+  double xt = 0;    ///< Δε̃^{e+p}_k = ZᵀDx / 3G
+  Voigt dx;         ///< D x
+};
+
+AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0,
+               const Voigt& x) {
+  const double three_g = ps.curve.three_g;
+  AlongZ a;
+  a.dx = Tangent{}.times(k1, x);
+  // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
+  a.z = ps.flowing ? ps.z : flow_direction(sigma0 + a.dx);
+  a.q0 = a.z.dot(sigma0);
+  a.eps0 = ps.curve.eps_p + a.q0 / three_g;
+  a.xt = a.z.dot(a.dx) / three_g;
+  return a;
+}
+
+/// The stress and plastic state of the iterate from the plastic multiplier `lambda` along Z,
+/// and the scheme's memory for the next iteration (ds: Δσ̃_k; new_tan: tan β of k+1; lambda0:
+/// the initial strain of k+1).
+void finish(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+            const Voigt& sigma0, const AlongZ& a, double lambda, double ds, double new_tan,
+            double lambda0, PointUpdate& u) {
+  // Round-off on the elastic line is not plastic flow.
+  if (std::abs(lambda) <= 1e-12 * std::max(std::abs(a.eps0 + a.xt), ps.curve.eps_yield_now))
+    lambda = 0;
+  u.z = a.z;
+  u.d_lambda = lambda;
+  u.plastic = lambda != 0;
+  u.sigma = sigma0 + a.dx - lambda * Tangent{}.times(k1, a.z);  // σ(t) + D(x − Zλ)
+  u.eps_ep = a.eps0 + a.xt;
+  // A point elastic in this iterate and the one before follows the linear law exactly: its
+  // curve defects vanish to round-off and a change between iterations says nothing about the
+  // curve, so it does not enter the measures (an elastic step converges in one solve).
+  if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
+  u.next = it;
+  u.next.x_prev = a.xt;
+  u.next.ds_prev = ds;
+  u.next.tan_beta = new_tan;
+  u.next.lambda0 = lambda0;
+  u.next.plastic_prev = u.plastic;
+  ++u.next.k;
+}
+
+/// The reference: the radial return with its consistent tangent.
+class Newton final : public Scheme {
+ public:
+  SchemeKind kind() const override { return SchemeKind::newton; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_iteration; }
+  PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+                       const Voigt& sigma0, const Voigt& x) const override {
+    const double three_g = ps.curve.three_g;
+    const Voigt dx = Tangent{}.times(k1, x);  // D x
+    PointUpdate u;
     const ReturnMapping rr = radial_return(k1, ps.curve, sigma0, x);
     const double q = von_mises(rr.sigma), q0 = rr.z.dot(sigma0);
     const double xt = rr.z.dot(dx) / three_g;
@@ -132,114 +150,201 @@ PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, c
       u.defect_sigma = (q - q0) - it.ds_prev;
       u.defect_eps = xt - it.x_prev;
     }
-    it.ds_prev = q - q0;
-    it.x_prev = xt;
-    it.plastic_prev = u.plastic;
-    ++it.k;
+    u.next = it;
+    u.next.ds_prev = q - q0;
+    u.next.x_prev = xt;
+    u.next.plastic_prev = u.plastic;
+    ++u.next.k;
     return u;
   }
+};
 
-  // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
-  const Voigt z = ps.flowing ? ps.z : flow_direction(sigma0 + dx);
-  const double q0 = z.dot(sigma0);                    // σ̃(t) seen along Z
-  const double eps0 = ps.curve.eps_p + q0 / three_g;  // ε̃^{e+p}(t)
-  const double xt = z.dot(dx) / three_g;              // Δε̃^{e+p}_k = ZᵀDx / 3G
-  const bool right = ps.flowing;
-  double lambda = 0, ds = 0, new_tan = it.tan_beta, lambda0 = it.lambda0;
-
-  switch (s.kind) {
-    case SchemeKind::variable_stiffness:
-      ds = it.tan_beta * xt;  // Δσ̃_k of the solve with D̃(β*_k)
-      if (!s.strain_form) {   // (2.33)
-        const auto ph = ps.curve.phi(eps0 + xt, right);
-        u.defect_sigma = ph.value - (q0 + ds);
-        u.defect_eps = xt - it.x_prev;
-        new_tan = stress_secant(ps, eps0, q0, xt, ph.value, right);
-        lambda = xt - (ph.value - q0) / three_g;
-      } else {  // (2.34)
-        const auto fk = ps.curve.f(q0 + ds, right);
-        if (!std::isfinite(fk.value)) {
-          u.undefined = true;
-          return u;
-        }
-        u.defect_eps = fk.value - (eps0 + it.x_prev);
-        u.defect_sigma = ds - it.ds_prev;
-        const double den = fk.value - eps0;
-        // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
-        new_tan = std::abs(ds) > 1e-8 * std::max(std::abs(q0), ps.curve.yield_now) && den != 0
-                      ? ds / den
-                      : 1 / fk.slope;
-        lambda = (three_g - new_tan) / three_g * xt;
-      }
-      // A stress at t above the curve along this step's direction Z (left by an earlier step
-      // whose stress turned away from its Z, as under an indenter) makes the secant negative
-      // and D̃ indefinite: the scheme has no answer for the step.
-      u.negative_secant = new_tan < 0;
-      u.tangent = d_tilde(k1, z, new_tan);
-      break;
-
-    case SchemeKind::initial_strain:              // (2.35)-(2.37)
-    case SchemeKind::initial_strain_stiffness: {  // (2.38)-(2.40)
-      const double tb = s.kind == SchemeKind::initial_strain ? three_g : it.tan_start;
-      ds = tb * (xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
-      const auto fk = ps.curve.f(q0 + ds, right);
+/// Scheme 1, (2.32)-(2.34): the secant matrix D̃(β*_k), rebuilt every iteration, on the
+/// curve's stress form Φ (2.33) or its strain form F (2.34).
+class VariableStiffness final : public Scheme {
+ public:
+  explicit VariableStiffness(bool strain_form) : strain_form_(strain_form) {}
+  SchemeKind kind() const override { return SchemeKind::variable_stiffness; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_iteration; }
+  bool uses_strain_form() const override { return strain_form_; }
+  PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+                       const Voigt& sigma0, const Voigt& x) const override {
+    const double three_g = ps.curve.three_g;
+    const AlongZ a = along_z(k1, ps, sigma0, x);
+    const bool right = ps.flowing;
+    PointUpdate u;
+    double lambda = 0, new_tan = it.tan_beta;
+    const double ds = it.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
+    if (!strain_form_) {                   // (2.33)
+      const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
+      u.defect_sigma = ph.value - (a.q0 + ds);
+      u.defect_eps = a.xt - it.x_prev;
+      new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
+      lambda = a.xt - (ph.value - a.q0) / three_g;
+    } else {  // (2.34)
+      const auto fk = ps.curve.f(a.q0 + ds, right);
       if (!std::isfinite(fk.value)) {
         u.undefined = true;
         return u;
       }
-      u.defect_eps = fk.value - (eps0 + xt);
+      u.defect_eps = fk.value - (a.eps0 + it.x_prev);
       u.defect_sigma = ds - it.ds_prev;
-      lambda0 = it.lambda0 + s.omega * u.defect_eps;  // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z
-      // Δε^p = Ỹ(x − Zλ0) + Zλ0, (2.25): along Z, Ỹ contributes (3G − tanβ*)/3G of it.
-      lambda = lambda0 + (three_g - tb) / three_g * (xt - lambda0);
-      if (s.kind == SchemeKind::initial_strain_stiffness) {
-        // The initial strain gathered so far corrected the loading matrix; with the elastic one
-        // an elastic unloading needs none (left in place it would only decay by 1 − ω per
-        // iteration).
-        if (start_slope_on_unloading(ps, it, xt, eps0)) lambda0 = 0;
-        u.tangent = d_tilde(k1, z, it.tan_start);
-      }
-      break;
+      const double den = fk.value - a.eps0;
+      // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
+      new_tan = std::abs(ds) > 1e-8 * std::max(std::abs(a.q0), ps.curve.yield_now) && den != 0
+                    ? ds / den
+                    : 1 / fk.slope;
+      lambda = (three_g - new_tan) / three_g * a.xt;
     }
-
-    case SchemeKind::initial_stress:              // (2.41)-(2.43)
-    case SchemeKind::initial_stress_stiffness: {  // (2.44)-(2.46)
-      const double tb = s.kind == SchemeKind::initial_stress ? three_g : it.tan_start;
-      // Δσ̃_k of the solve with D̃(β*) and Δσ^0_k = (D̃(β**_k) − D̃(β*))x_{k−1}
-      ds = tb * xt + (it.tan_beta - tb) * it.x_prev;
-      const auto ph = ps.curve.phi(eps0 + xt, right);
-      u.defect_sigma = ph.value - (q0 + ds);
-      u.defect_eps = xt - it.x_prev;
-      new_tan = stress_secant(ps, eps0, q0, xt, ph.value, right);  // β**_{k+1}
-      lambda = xt - (ph.value - q0) / three_g;  // σ_k = D̃(β**_{k+1})x: on the curve along Z
-      if (s.kind == SchemeKind::initial_stress_stiffness) {
-        start_slope_on_unloading(ps, it, xt, eps0);
-        u.tangent = d_tilde(k1, z, it.tan_start);
-      }
-      break;
-    }
-    case SchemeKind::newton:
-      assert(false);
+    // A stress at t above the curve along this step's direction Z (left by an earlier step
+    // whose stress turned away from its Z, as under an indenter) makes the secant negative
+    // and D̃ indefinite: the scheme has no answer for the step.
+    u.negative_secant = new_tan < 0;
+    u.tangent = d_tilde(k1, a.z, new_tan);
+    finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    return u;
   }
 
-  // Round-off on the elastic line is not plastic flow.
-  if (std::abs(lambda) <= 1e-12 * std::max(std::abs(eps0 + xt), ps.curve.eps_yield_now)) lambda = 0;
-  u.z = z;
-  u.d_lambda = lambda;
-  u.plastic = lambda != 0;
-  u.sigma = sigma0 + dx - lambda * elastic.times(k1, z);  // σ(t) + D(x − Zλ)
-  u.eps_ep = eps0 + xt;
-  // A point elastic in this iterate and the one before follows the linear law exactly: its
-  // curve defects vanish to round-off and a change between iterations says nothing about the
-  // curve, so it does not enter the measures (an elastic step converges in one solve).
-  if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
-  it.x_prev = xt;
-  it.ds_prev = ds;
-  it.tan_beta = new_tan;
-  it.lambda0 = lambda0;
-  it.plastic_prev = u.plastic;
-  ++it.k;
-  return u;
+ protected:
+  double initial_tan_beta(double tan0, double) const override { return tan0; }
+
+ private:
+  bool strain_form_;
+};
+
+/// Schemes 2 and 3, (2.35)-(2.37) and (2.38)-(2.40): initial strains on the curve's strain
+/// form, relaxed by ω, with the elastic matrix (2) or the start-of-step tangent (3).
+class InitialStrainLaw : public Scheme {
+ public:
+  explicit InitialStrainLaw(double omega) : omega_(omega) {}
+  bool uses_strain_form() const override { return true; }
+  PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+                       const Voigt& sigma0, const Voigt& x) const override {
+    const double three_g = ps.curve.three_g;
+    const AlongZ a = along_z(k1, ps, sigma0, x);
+    PointUpdate u;
+    PointIteration memory = it;
+    const double tb = stiffness() ? it.tan_start : three_g;
+    const double ds = tb * (a.xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
+    const auto fk = ps.curve.f(a.q0 + ds, ps.flowing);
+    if (!std::isfinite(fk.value)) {
+      u.undefined = true;
+      return u;
+    }
+    u.defect_eps = fk.value - (a.eps0 + a.xt);
+    u.defect_sigma = ds - it.ds_prev;
+    double lambda0 = it.lambda0 + omega_ * u.defect_eps;  // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z
+    // Δε^p = Ỹ(x − Zλ0) + Zλ0, (2.25): along Z, Ỹ contributes (3G − tanβ*)/3G of it.
+    const double lambda = lambda0 + (three_g - tb) / three_g * (a.xt - lambda0);
+    if (stiffness()) {
+      // The initial strain gathered so far corrected the loading matrix; with the elastic one
+      // an elastic unloading needs none (left in place it would only decay by 1 − ω per
+      // iteration).
+      if (start_slope_on_unloading(ps, memory, a.xt, a.eps0)) lambda0 = 0;
+      u.tangent = d_tilde(k1, a.z, memory.tan_start);
+    }
+    finish(k1, ps, memory, sigma0, a, lambda, ds, it.tan_beta, lambda0, u);
+    return u;
+  }
+
+ protected:
+  virtual bool stiffness() const = 0;
+
+ private:
+  double omega_;
+};
+
+class InitialStrain final : public InitialStrainLaw {
+ public:
+  using InitialStrainLaw::InitialStrainLaw;
+  SchemeKind kind() const override { return SchemeKind::initial_strain; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::elastic; }
+
+ protected:
+  bool stiffness() const override { return false; }
+};
+
+class InitialStrainStiffness final : public InitialStrainLaw {
+ public:
+  using InitialStrainLaw::InitialStrainLaw;
+  SchemeKind kind() const override { return SchemeKind::initial_strain_stiffness; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_step; }
+
+ protected:
+  bool stiffness() const override { return true; }
+  double initial_tan_beta(double tan0, double) const override { return tan0; }
+};
+
+/// Schemes 4 and 5, (2.41)-(2.43) and (2.44)-(2.46): initial stresses on the curve's stress
+/// form, with the elastic matrix (4) or the start-of-step tangent (5).
+class InitialStressLaw : public Scheme {
+ public:
+  bool allows_acceleration() const override { return true; }
+  PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+                       const Voigt& sigma0, const Voigt& x) const override {
+    const double three_g = ps.curve.three_g;
+    const AlongZ a = along_z(k1, ps, sigma0, x);
+    const bool right = ps.flowing;
+    PointUpdate u;
+    PointIteration memory = it;
+    const double tb = stiffness() ? it.tan_start : three_g;
+    // Δσ̃_k of the solve with D̃(β*) and Δσ^0_k = (D̃(β**_k) − D̃(β*))x_{k−1}
+    const double ds = tb * a.xt + (it.tan_beta - tb) * it.x_prev;
+    const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
+    u.defect_sigma = ph.value - (a.q0 + ds);
+    u.defect_eps = a.xt - it.x_prev;
+    const double new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);  // β**_{k+1}
+    // σ_k = D̃(β**_{k+1})x: on the curve along Z
+    const double lambda = a.xt - (ph.value - a.q0) / three_g;
+    if (stiffness()) {
+      start_slope_on_unloading(ps, memory, a.xt, a.eps0);
+      u.tangent = d_tilde(k1, a.z, memory.tan_start);
+    }
+    finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    return u;
+  }
+
+ protected:
+  virtual bool stiffness() const = 0;
+};
+
+class InitialStress final : public InitialStressLaw {
+ public:
+  SchemeKind kind() const override { return SchemeKind::initial_stress; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::elastic; }
+
+ protected:
+  bool stiffness() const override { return false; }
+};
+
+class InitialStressStiffness final : public InitialStressLaw {
+ public:
+  SchemeKind kind() const override { return SchemeKind::initial_stress_stiffness; }
+  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_step; }
+
+ protected:
+  bool stiffness() const override { return true; }
+  double initial_tan_beta(double tan0, double) const override { return tan0; }
+};
+
+}  // namespace
+
+std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omega) {
+  switch (kind) {
+    case SchemeKind::newton:
+      return std::make_unique<Newton>();
+    case SchemeKind::variable_stiffness:
+      return std::make_unique<VariableStiffness>(form == CurveForm::strain);
+    case SchemeKind::initial_strain:
+      return std::make_unique<InitialStrain>(omega);
+    case SchemeKind::initial_strain_stiffness:
+      return std::make_unique<InitialStrainStiffness>(omega);
+    case SchemeKind::initial_stress:
+      return std::make_unique<InitialStress>();
+    case SchemeKind::initial_stress_stiffness:
+      return std::make_unique<InitialStressStiffness>();
+  }
+  throw std::logic_error("unknown scheme");
 }
 
 }  // namespace hencky

@@ -23,44 +23,21 @@
 //   proportional paths, kept consistent with the actual stress on others and after reversals;
 // - Z is Mσ(t)/σ̃(t) (2.10) for a point that was flowing plastically at t; for a point that was
 //   elastic at t (σ̃(t) = 0 included) it is the direction of the current elastic trial stress.
+#include <memory>
 #include <string>
 
 #include "material/plastic_point.hpp"
+#include "spec/case.hpp"
 
 namespace hencky {
 
-enum class SchemeKind {
-  newton,
-  variable_stiffness,        // 1: (2.32)-(2.34)
-  initial_strain,            // 2: (2.35)-(2.37)
-  initial_strain_stiffness,  // 3: (2.38)-(2.40)
-  initial_stress,            // 4: (2.41)-(2.43)
-  initial_stress_stiffness,  // 5: (2.44)-(2.46)
-};
-
-SchemeKind scheme_from_name(const std::string& name);
-const char* scheme_name(SchemeKind kind);
-
-struct SchemeOptions {
-  SchemeKind kind = SchemeKind::newton;
-  bool strain_form = false;  ///< variable-stiffness with curve_form: strain (2.34)
-  double omega = 1.0;        ///< relaxation of the initial-strain schemes
-
-  /// The matrix changes every iteration (it must be refactorized).
-  bool matrix_per_iteration() const {
-    return kind == SchemeKind::newton || kind == SchemeKind::variable_stiffness;
-  }
-  /// The matrix is the start-of-step tangent: one factorization per step (a second one at the
-  /// first iteration when flowing points turn out to unload, see tan_start).
-  bool matrix_per_step() const {
-    return kind == SchemeKind::initial_strain_stiffness ||
-           kind == SchemeKind::initial_stress_stiffness;
-  }
-  /// Uses the curve's strain form F = ε(σ) (undefined above the curve's largest stress).
-  bool uses_strain_form() const {
-    return kind == SchemeKind::initial_strain || kind == SchemeKind::initial_strain_stiffness ||
-           (kind == SchemeKind::variable_stiffness && strain_form);
-  }
+/// When the scheme's matrix changes (the step loop assembles and factorizes it again).
+enum class MatrixPolicy {
+  per_iteration,  ///< newton, variable-stiffness: whenever a point's matrix changed
+  per_step,       ///< the `-stiffness` schemes: the start-of-step tangent (a second one at
+                  ///< the first iteration when flowing points turn out to unload, tan_start)
+  elastic,        ///< initial-strain, initial-stress: the elastic matrix, rebuilt only when
+                  ///< E or ν change with the temperature
 };
 
 /// What a point keeps fixed during one step.
@@ -88,25 +65,55 @@ struct PointIteration {
 
 /// Everything the evaluation of one iterate gives back.
 struct PointUpdate {
-  Voigt sigma;           ///< σ_k
-  Voigt z;               ///< the flow direction used
-  double d_lambda = 0;   ///< total plastic multiplier: Δε^p = z·d_lambda
-  double eps_ep = 0;     ///< ε̃^{e+p}(t) + Δε̃^{e+p}_k
-  Tangent tangent;       ///< the scheme's matrix at this point for the next solve
-  bool plastic = false;  ///< plastic flow in this iterate
+  Voigt sigma = Voigt::Zero();  ///< σ_k
+  Voigt z = Voigt::Zero();      ///< the flow direction used
+  double d_lambda = 0;          ///< total plastic multiplier: Δε^p = z·d_lambda
+  double eps_ep = 0;            ///< ε̃^{e+p}(t) + Δε̃^{e+p}_k
+  Tangent tangent;              ///< the scheme's matrix at this point for the next solve
+  bool plastic = false;         ///< plastic flow in this iterate
   double defect_sigma = 0, defect_eps = 0;  ///< numerators of Δ^σ_k, Δ^ε_k
-  bool undefined = false;  ///< the strain form F was needed above the curve's largest stress
+  bool undefined = false;        ///< the strain form F was needed above the curve's largest stress
   bool negative_secant = false;  ///< variable-stiffness: the secant slope is negative
+  PointIteration next;           ///< the scheme's memory for iteration k+1
 };
 
-/// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
-PointStep begin_point_step(const SchemeOptions& s, const ElasticConstants& k1, const Hardening& h,
-                           double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
-                           bool flowing, PointIteration& it);
+/// One scheme: the start of a step at a point, the point law, when the matrix changes and
+/// whether acceleration applies. The six implementations are in schemes.cpp.
+class Scheme {
+ public:
+  virtual ~Scheme() = default;
+  virtual SchemeKind kind() const = 0;
+  const char* name() const { return scheme_name(kind()); }
+  virtual MatrixPolicy matrix_policy() const = 0;
+  /// Anderson mixing applies: a fixed matrix and a point law of the iterate alone (the
+  /// initial-strain schemes carry their relaxed initial strain from one iteration to the next).
+  virtual bool allows_acceleration() const { return false; }
+  /// Uses the curve's strain form F = ε(σ) (undefined above the curve's largest stress).
+  virtual bool uses_strain_form() const { return false; }
 
-/// Evaluates iterate k at a point: x = Δε_k − Δε^th. Updates `it` to the parameters of
-/// iteration k+1 and returns the stress σ_k and the matrix they define.
-PointUpdate evaluate_point(const SchemeOptions& s, const ElasticConstants& k1, const PointStep& ps,
-                           PointIteration& it, const Voigt& sigma0, const Voigt& x);
+  /// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
+  PointStep begin_point_step(const ElasticConstants& k1, const Hardening& h, double T1,
+                             bool elastic_unloading, const Voigt& sigma0, double eps_p0,
+                             bool flowing, PointIteration& it) const;
+
+  /// The point law: evaluates iterate k at a point, x = Δε_k − Δε^th, from the point's state
+  /// at t (sigma0, ps) and the scheme's memory `it`. Returns the stress σ_k, the plastic
+  /// increment, the matrix for the next solve, the defect measures and the memory of the next
+  /// iteration; a pure function of its arguments.
+  virtual PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps,
+                               const PointIteration& it, const Voigt& sigma0,
+                               const Voigt& x) const = 0;
+
+ protected:
+  /// tan β of iteration 0 at a point whose start slope is tan0.
+  virtual double initial_tan_beta(double tan0, double three_g) const {
+    (void)tan0;
+    return three_g;  // β* = β^e; Δσ^0_0 = 0 means β**_0 = β*
+  }
+};
+
+/// The scheme of the case: `form` for variable-stiffness, `omega` the relaxation of the
+/// initial-strain schemes.
+std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omega);
 
 }  // namespace hencky

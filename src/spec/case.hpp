@@ -196,13 +196,33 @@ class StepTimes {
   std::vector<double> list_;  ///< listed end times; empty for equal steps
 };
 
+/// The iteration schemes of the formulation and Newton (solve/schemes.hpp); for elastic
+/// materials they are the same single linear solve per step.
+enum class SchemeKind {
+  newton,
+  variable_stiffness,        // 1: (2.32)-(2.34)
+  initial_strain,            // 2: (2.35)-(2.37)
+  initial_strain_stiffness,  // 3: (2.38)-(2.40)
+  initial_stress,            // 4: (2.41)-(2.43)
+  initial_stress_stiffness,  // 5: (2.44)-(2.46)
+};
+
+/// The one table of the schemes' names (solver.scheme), in the order of SchemeKind.
+inline constexpr std::array<const char*, 6> scheme_names = {
+    "newton",         "variable-stiffness",      "initial-strain", "initial-strain-stiffness",
+    "initial-stress", "initial-stress-stiffness"};
+inline const char* scheme_name(SchemeKind kind) {
+  return scheme_names[static_cast<std::size_t>(kind)];
+}
+
+/// Which form of the curve variable-stiffness iterates on: stress σ̃ = Φ(ε̃) (2.33) or strain
+/// ε̃ = F(σ̃) (2.34).
+enum class CurveForm { stress, strain };
+
 struct SolverSpec {
   enum class Linear { direct, iterative, petsc };
-  /// newton | variable-stiffness | initial-strain | initial-strain-stiffness | initial-stress
-  /// | initial-stress-stiffness. For elastic materials (all of hencky 0.1) they are the same
-  /// single linear solve per step.
-  std::string scheme = "newton";
-  std::string curve_form = "stress";  ///< stress | strain (variable-stiffness only)
+  SchemeKind scheme = SchemeKind::newton;
+  CurveForm curve_form = CurveForm::stress;  ///< variable-stiffness only
   StepTimes times;                    ///< end times of the steps
   int max_iterations = 50;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
