@@ -24,7 +24,9 @@ namespace {
 using namespace hencky;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 long peak_memory_bytes() {
   rusage u{};
@@ -173,11 +175,12 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         st.factor_flops * st.n_factorizations / timings.factorization * 1e-9;
   summary["warnings"] = log.warnings();
   for (auto& [k, v] : writer->final_values().items()) summary[k] = v;
-  summary["wall_seconds"] = {{"mesh", l.mesh_seconds},     {"setup", l.setup_seconds},
-                             {"assembly", timings.assembly}, {"factorization", timings.factorization},
-                             {"solve", timings.solve},       {"material", timings.material},
-                             {"output", timings.output},     {"contact", timings.contact},
-                             {"total", since(t_start)}};
+  summary["wall_seconds"] = {
+      {"mesh", l.mesh_seconds},       {"setup", l.setup_seconds},
+      {"assembly", timings.assembly}, {"factorization", timings.factorization},
+      {"solve", timings.solve},       {"material", timings.material},
+      {"output", timings.output},     {"contact", timings.contact},
+      {"total", since(t_start)}};
   writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            result.status == AnalysisStatus::converged ? "converged" : "stopped", since(t_start),
@@ -197,6 +200,35 @@ int check(const std::string& case_path) {
   std::cout << "\n";
   for (const auto& line : describe_contact(m)) std::cout << "  " << line << "\n";
   return 0;
+}
+
+/// The OpenMP threads: --threads when given (false, with the message printed, when it is
+/// below 1), else OMP_NUM_THREADS or every core. More threads than the hardware runs only cost,
+/// and a huge count exhausts the process's threads inside the first parallel loop: both are
+/// lowered to the hardware threads, with `warning` saying so.
+bool set_threads(bool given, int threads, std::string& warning) {
+  const int hardware = omp_get_num_procs();
+  if (given) {
+    if (threads < 1) {
+      std::cerr << fmt::format("error: '--threads': expected a number of threads >= 1, found {}\n",
+                               threads);
+      return false;
+    }
+    if (threads > hardware) {
+      warning =
+          fmt::format("--threads {} is more than the {} hardware threads of this machine: using {}",
+                      threads, hardware, hardware);
+      threads = hardware;
+    }
+    omp_set_num_threads(threads);
+  } else if (std::getenv("OMP_NUM_THREADS") && omp_get_max_threads() > hardware) {
+    // OMP_NUM_THREADS asks for more: the same clamp (it holds for `check` too, which meshes).
+    warning = fmt::format(
+        "OMP_NUM_THREADS={} is more than the {} hardware threads of this machine: using {}",
+        omp_get_max_threads(), hardware, hardware);
+    omp_set_num_threads(hardware);
+  }
+  return true;
 }
 
 }  // namespace
@@ -223,7 +255,8 @@ int main(int argc, char** argv) {
                       "PETSc options for the PETSc back end, in one quoted argument, e.g. "
                       "--petsc \"-pc_type hypre -ksp_monitor\"; they override "
                       "solver.petsc_options (the environment variable PETSC_OPTIONS also works)");
-  auto* check_cmd = app.add_subcommand("check", "read and validate a case and its mesh, solve nothing");
+  auto* check_cmd =
+      app.add_subcommand("check", "read and validate a case and its mesh, solve nothing");
   check_cmd->add_option("case", case_path, "case file (YAML)")->required();
   try {
     app.parse(argc, argv);
@@ -235,31 +268,9 @@ int main(int argc, char** argv) {
     std::cerr << "error: '-o': expected an output directory, found an empty path\n";
     return 1;
   }
-  // Before any OpenMP region: more threads than the hardware runs only cost (and a huge count
-  // exhausts the process's threads inside the first parallel loop).
+  // Before any OpenMP region.
   std::string threads_warning;
-  if (threads_opt->count() > 0) {
-    if (threads < 1) {
-      std::cerr << fmt::format("error: '--threads': expected a number of threads >= 1, found {}\n",
-                               threads);
-      return 1;
-    }
-    const int hardware = omp_get_num_procs();
-    if (threads > hardware) {
-      threads_warning =
-          fmt::format("--threads {} is more than the {} hardware threads of this machine: using {}",
-                      threads, hardware, hardware);
-      threads = hardware;
-    }
-    omp_set_num_threads(threads);
-  } else if (const int hardware = omp_get_num_procs();
-             std::getenv("OMP_NUM_THREADS") && omp_get_max_threads() > hardware) {
-    // OMP_NUM_THREADS asks for more: the same clamp (it holds for `check` too, which meshes).
-    threads_warning = fmt::format(
-        "OMP_NUM_THREADS={} is more than the {} hardware threads of this machine: using {}",
-        omp_get_max_threads(), hardware, hardware);
-    omp_set_num_threads(hardware);
-  }
+  if (!set_threads(threads_opt->count() > 0, threads, threads_warning)) return 1;
   std::string petsc_options;
   for (const auto& a : petsc_args) petsc_options += (petsc_options.empty() ? "" : " ") + a;
   // Under mpirun every rank starts MPI and PETSc here; a serial run starts them only if its

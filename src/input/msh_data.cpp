@@ -191,160 +191,189 @@ std::string gmsh_type_name(int type) {
   return std::string(t->name) + " (Gmsh type " + std::to_string(type) + ")";
 }
 
-Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::string& file) {
-  const SourceLocation where{file, 0, 0, ""};
-  auto fail = [&](const std::string& msg) { return InputError(where, msg); };
+namespace {
 
-  // Physical groups, in order of (dimension, tag), each with its entities in order of tag.
-  std::vector<const MshData::Entity*> entities;
-  for (const auto& e : data.entities) entities.push_back(&e);
-  std::sort(entities.begin(), entities.end(), [](const auto* a, const auto* b) {
-    return std::pair(a->dim, a->tag) < std::pair(b->dim, b->tag);
-  });
-  std::map<std::pair<int, int>, std::vector<int>> groups;  // (dim, tag) -> entity tags
-  for (const auto* e : entities)
-    for (int p : e->physicals) {
-      auto& ents = groups[{e->dim, p}];
-      if (ents.empty() || ents.back() != e->tag) ents.push_back(e->tag);
+/// to_mesh in stages, each with the state the next one needs.
+class MeshBuilder {
+ public:
+  MeshBuilder(const MshData& data, const MeshReadOptions& options, const std::string& file)
+      : data_(data), options_(options), where_{file, 0, 0, ""}, blocks_of_(blocks_by_entity(data)) {
+    // Physical groups, in order of (dimension, tag), each with its entities in order of tag.
+    for (const auto& e : data.entities) entities_.push_back(&e);
+    std::sort(entities_.begin(), entities_.end(), [](const auto* a, const auto* b) {
+      return std::pair(a->dim, a->tag) < std::pair(b->dim, b->tag);
+    });
+    for (const auto* e : entities_)
+      for (int p : e->physicals) {
+        auto& ents = groups_[{e->dim, p}];
+        if (ents.empty() || ents.back() != e->tag) ents.push_back(e->tag);
+      }
+    file_node_.reserve(data.node_tags.size());
+    for (std::size_t i = 0; i < data.node_tags.size(); ++i)
+      file_node_.emplace(data.node_tags[i], i);
+  }
+
+  Mesh build() {
+    body_cells();
+    renumber_nodes();
+    lower_dimensional_regions();
+    for (auto& r : mesh_.regions) {
+      if (r.dim == 3)
+        for (int c : r.cells)
+          for (int n : mesh_.cells.nodes(c)) r.nodes.push_back(n);
+      std::sort(r.nodes.begin(), r.nodes.end());
+      r.nodes.erase(std::unique(r.nodes.begin(), r.nodes.end()), r.nodes.end());
     }
-  auto group_name = [&](int dim, int tag) {
-    auto it = data.physical_names.find({dim, tag});
-    return it == data.physical_names.end() || it->second.empty() ? std::to_string(tag) : it->second;
-  };
-  const auto blocks_of = blocks_by_entity(data);
-  auto for_each_block = [&](int dim, int entity, auto&& f) {
-    auto it = blocks_of.find({dim, entity});
-    if (it != blocks_of.end())
+    return std::move(mesh_);
+  }
+
+ private:
+  InputError fail(const std::string& msg) const { return InputError(where_, msg); }
+  std::string group_name(int dim, int tag) const {
+    auto it = data_.physical_names.find({dim, tag});
+    return it == data_.physical_names.end() || it->second.empty() ? std::to_string(tag)
+                                                                  : it->second;
+  }
+  template <class F>
+  void for_each_block(int dim, int entity, F&& f) const {
+    auto it = blocks_of_.find({dim, entity});
+    if (it != blocks_of_.end())
       for (const auto* b : it->second) f(*b);
-  };
-
-  std::unordered_map<std::size_t, std::size_t> file_node;  // Gmsh tag -> position in coords
-  file_node.reserve(data.node_tags.size());
-  for (std::size_t i = 0; i < data.node_tags.size(); ++i) file_node.emplace(data.node_tags[i], i);
-
-  Mesh mesh;
-  // Body cells: physical volumes, or all 3D entities.
-  std::vector<std::pair<int, std::vector<int>>> volume_groups;  // (region index, entities)
-  for (const auto& [key, ents] : groups) {
-    if (key.first != 3) continue;
-    Region r;
-    r.name = group_name(key.first, key.second);
-    r.dim = 3;
-    mesh.regions.push_back(r);
-    volume_groups.emplace_back(static_cast<int>(mesh.regions.size()) - 1, ents);
-  }
-  if (volume_groups.empty()) {
-    std::vector<int> all;
-    for (const auto* e : entities)
-      if (e->dim == 3) all.push_back(e->tag);
-    volume_groups.emplace_back(-1, all);
   }
 
-  std::unordered_map<std::size_t, int> node_index;  // Gmsh tag -> hencky node
-  std::vector<std::size_t> body_node_tags;
-  std::unordered_map<std::size_t, int> cell_of_tag;  // Gmsh element tag -> cell, for duplicates
-  for (auto& [region, ents] : volume_groups) {
-    for (int ent : ents) {
-      for_each_block(3, ent, [&](const MshData::Block& b) {
-        CellType ct;
-        if (!volume_cell_type(b.type, ct))
-          throw fail("unsupported volume element " + gmsh_type_name(b.type) +
-                     "; hencky supports 4/10-node tetrahedra, 8/20-node hexahedra and 6-node "
-                     "wedges (use mesh.order: 2 for serendipity quadratic elements)");
-        const int nn = cell_n_nodes(ct);
-        for (std::size_t e = 0; e < b.tags.size(); ++e) {
-          auto [it, fresh] = cell_of_tag.emplace(b.tags[e], mesh.cells.size());
-          if (!fresh) continue;  // element in two physical volumes: first one wins
-          int local[max_cell_nodes];
-          for (int a = 0; a < nn; ++a) {
-            const std::size_t gt = b.nodes[e * nn + a];
-            if (!file_node.count(gt))
-              throw fail("element " + std::to_string(b.tags[e]) + " has node " +
-                         std::to_string(gt) + ", which is not among the file's nodes");
-            auto [nit, nfresh] = node_index.emplace(gt, static_cast<int>(body_node_tags.size()));
-            if (nfresh) body_node_tags.push_back(gt);
-            local[a] = nit->second;
-          }
-          mesh.cells.add(ct, std::span<const int>(local, nn), static_cast<long>(b.tags[e]));
-          mesh.cell_region.push_back(region);
-          if (region >= 0) mesh.regions[region].cells.push_back(mesh.cells.size() - 1);
-        }
-      });
+  /// The body: the cells of the physical volumes, or of every 3D entity when there are none.
+  void body_cells() {
+    std::vector<std::pair<int, std::vector<int>>> volume_groups;  // (region index, entities)
+    for (const auto& [key, ents] : groups_) {
+      if (key.first != 3) continue;
+      Region r;
+      r.name = group_name(key.first, key.second);
+      r.dim = 3;
+      mesh_.regions.push_back(r);
+      volume_groups.emplace_back(static_cast<int>(mesh_.regions.size()) - 1, ents);
+    }
+    if (volume_groups.empty()) {
+      std::vector<int> all;
+      for (const auto* e : entities_)
+        if (e->dim == 3) all.push_back(e->tag);
+      volume_groups.emplace_back(-1, all);
+    }
+    for (auto& [region, ents] : volume_groups)
+      for (int ent : ents)
+        for_each_block(3, ent, [&](const MshData::Block& b) { add_cells(b, region); });
+    if (mesh_.cells.size() == 0) {
+      const bool any =
+          std::any_of(data_.blocks.begin(), data_.blocks.end(),
+                      [](const MshData::Block& b) { return b.dim == 3 && !b.tags.empty(); });
+      throw fail(any ? "the mesh has no 3D elements in its physical volumes"
+                     : "the mesh has no 3D elements (hencky needs a volume mesh)");
     }
   }
-  if (mesh.cells.size() == 0) {
-    const bool any =
-        std::any_of(data.blocks.begin(), data.blocks.end(),
-                    [](const MshData::Block& b) { return b.dim == 3 && !b.tags.empty(); });
-    throw fail(any ? "the mesh has no 3D elements in its physical volumes"
-                   : "the mesh has no 3D elements (hencky needs a volume mesh)");
-  }
 
-  // Renumber nodes by Gmsh tag so that the numbering does not depend on traversal order.
-  std::vector<int> order(body_node_tags.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return body_node_tags[a] < body_node_tags[b]; });
-  std::vector<int> new_of_old(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) new_of_old[order[i]] = static_cast<int>(i);
-  for (auto& n : mesh.cells.conn) n = new_of_old[n];
-  mesh.x.resize(order.size());
-  mesh.node_tag.resize(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const std::size_t gt = body_node_tags[order[i]];
-    const std::size_t ci = file_node.at(gt);
-    mesh.x[i] =
-        Vec3(data.coords[3 * ci], data.coords[3 * ci + 1], data.coords[3 * ci + 2]) * options.scale;
-    mesh.node_tag[i] = static_cast<long>(gt);
-    node_index[gt] = static_cast<int>(i);
-  }
-
-  // Lower-dimensional regions: faces for surfaces, node sets for all.
-  for (const auto& [key, ents] : groups) {
-    const int dim = key.first;
-    if (dim == 3) continue;
-    Region r;
-    r.name = group_name(dim, key.second);
-    r.dim = dim;
-    for (int ent : ents) {
-      for_each_block(dim, ent, [&](const MshData::Block& b) {
-        const GmshElementType* t = gmsh_element_type(b.type);
-        CellType ct{};
-        const bool is_face = dim == 2 && face_cell_type(b.type, ct);
-        if (dim == 2 && !is_face)
-          throw fail("region '" + r.name + "': unsupported surface element " +
-                     gmsh_type_name(b.type));
-        const int nn = t ? t->nodes : 0;
-        for (std::size_t e = 0; e < b.tags.size(); ++e) {
-          int local[max_cell_nodes];
-          for (int a = 0; a < nn; ++a) {
-            const std::size_t gt = b.nodes[e * nn + a];
-            auto it = node_index.find(gt);
-            if (it == node_index.end())
-              throw fail(
-                  "region '" + r.name + "': element " + std::to_string(b.tags[e]) + " has node " +
-                  std::to_string(gt) +
-                  " which is not a node of the volume mesh (the surface is not on the body)");
-            if (a < max_cell_nodes) local[a] = it->second;
-            r.nodes.push_back(it->second);
-          }
-          if (is_face) {
-            mesh.faces.add(ct, std::span<const int>(local, nn), static_cast<long>(b.tags[e]));
-            r.cells.push_back(mesh.faces.size() - 1);
-          }
-        }
-      });
+  void add_cells(const MshData::Block& b, int region) {
+    CellType ct;
+    if (!volume_cell_type(b.type, ct))
+      throw fail("unsupported volume element " + gmsh_type_name(b.type) +
+                 "; hencky supports 4/10-node tetrahedra, 8/20-node hexahedra and 6-node "
+                 "wedges (use mesh.order: 2 for serendipity quadratic elements)");
+    const int nn = cell_n_nodes(ct);
+    for (std::size_t e = 0; e < b.tags.size(); ++e) {
+      auto [it, fresh] = cell_of_tag_.emplace(b.tags[e], mesh_.cells.size());
+      if (!fresh) continue;  // element in two physical volumes: first one wins
+      int local[max_cell_nodes];
+      for (int a = 0; a < nn; ++a) {
+        const std::size_t gt = b.nodes[e * nn + a];
+        if (!file_node_.count(gt))
+          throw fail("element " + std::to_string(b.tags[e]) + " has node " + std::to_string(gt) +
+                     ", which is not among the file's nodes");
+        auto [nit, nfresh] = node_index_.emplace(gt, static_cast<int>(body_node_tags_.size()));
+        if (nfresh) body_node_tags_.push_back(gt);
+        local[a] = nit->second;
+      }
+      mesh_.cells.add(ct, std::span<const int>(local, nn), static_cast<long>(b.tags[e]));
+      mesh_.cell_region.push_back(region);
+      if (region >= 0) mesh_.regions[region].cells.push_back(mesh_.cells.size() - 1);
     }
-    mesh.regions.push_back(std::move(r));
   }
-  for (auto& r : mesh.regions) {
-    if (r.dim == 3)
-      for (int c : r.cells)
-        for (int n : mesh.cells.nodes(c)) r.nodes.push_back(n);
-    std::sort(r.nodes.begin(), r.nodes.end());
-    r.nodes.erase(std::unique(r.nodes.begin(), r.nodes.end()), r.nodes.end());
+
+  /// Renumbers the body's nodes by Gmsh tag, so that the numbering does not depend on the
+  /// order the cells were met in.
+  void renumber_nodes() {
+    std::vector<int> order(body_node_tags_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return body_node_tags_[a] < body_node_tags_[b]; });
+    std::vector<int> new_of_old(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) new_of_old[order[i]] = static_cast<int>(i);
+    for (auto& n : mesh_.cells.conn) n = new_of_old[n];
+    mesh_.x.resize(order.size());
+    mesh_.node_tag.resize(order.size());
+    const auto& xyz = data_.coords;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const std::size_t gt = body_node_tags_[order[i]];
+      const std::size_t ci = file_node_.at(gt);
+      mesh_.x[i] = Vec3(xyz[3 * ci], xyz[3 * ci + 1], xyz[3 * ci + 2]) * options_.scale;
+      mesh_.node_tag[i] = static_cast<long>(gt);
+      node_index_[gt] = static_cast<int>(i);
+    }
   }
-  return mesh;
+
+  /// Lower-dimensional regions: faces for surfaces, node sets for all.
+  void lower_dimensional_regions() {
+    for (const auto& [key, ents] : groups_) {
+      if (key.first == 3) continue;
+      Region r;
+      r.name = group_name(key.first, key.second);
+      r.dim = key.first;
+      for (int ent : ents)
+        for_each_block(r.dim, ent, [&](const MshData::Block& b) { add_region_elements(b, r); });
+      mesh_.regions.push_back(std::move(r));
+    }
+  }
+
+  void add_region_elements(const MshData::Block& b, Region& r) {
+    const GmshElementType* t = gmsh_element_type(b.type);
+    CellType ct{};
+    const bool is_face = r.dim == 2 && face_cell_type(b.type, ct);
+    if (r.dim == 2 && !is_face)
+      throw fail("region '" + r.name + "': unsupported surface element " + gmsh_type_name(b.type));
+    const int nn = t ? t->nodes : 0;
+    for (std::size_t e = 0; e < b.tags.size(); ++e) {
+      int local[max_cell_nodes];
+      for (int a = 0; a < nn; ++a) {
+        const std::size_t gt = b.nodes[e * nn + a];
+        auto it = node_index_.find(gt);
+        if (it == node_index_.end())
+          throw fail("region '" + r.name + "': element " + std::to_string(b.tags[e]) +
+                     " has node " + std::to_string(gt) +
+                     " which is not a node of the volume mesh (the surface is not on the body)");
+        if (a < max_cell_nodes) local[a] = it->second;
+        r.nodes.push_back(it->second);
+      }
+      if (is_face) {
+        mesh_.faces.add(ct, std::span<const int>(local, nn), static_cast<long>(b.tags[e]));
+        r.cells.push_back(mesh_.faces.size() - 1);
+      }
+    }
+  }
+
+  const MshData& data_;
+  const MeshReadOptions& options_;
+  SourceLocation where_;
+  std::map<std::pair<int, int>, std::vector<const MshData::Block*>> blocks_of_;
+  std::vector<const MshData::Entity*> entities_;
+  std::map<std::pair<int, int>, std::vector<int>> groups_;  // (dim, tag) -> entity tags
+  std::unordered_map<std::size_t, std::size_t> file_node_;  // Gmsh tag -> position in coords
+  std::unordered_map<std::size_t, int> node_index_;         // Gmsh tag -> hencky node
+  std::vector<std::size_t> body_node_tags_;
+  std::unordered_map<std::size_t, int> cell_of_tag_;  // Gmsh element tag -> cell
+  Mesh mesh_;
+};
+
+}  // namespace
+
+Mesh to_mesh(const MshData& data, const MeshReadOptions& options, const std::string& file) {
+  return MeshBuilder(data, options, file).build();
 }
 
 }  // namespace hencky

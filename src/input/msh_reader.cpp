@@ -433,52 +433,48 @@ class Parser {
     const std::size_t n = count("the number of elements");
     to_binary_data();
     need(n, binary_ ? 4 * sizeof(int) : 8, "$Elements");
-    std::map<std::tuple<int, int, int>, std::size_t> block_of;  // (dim, entity, type) -> block
-    std::unordered_set<std::size_t> seen_tags;
+    binary_ ? elements2_binary(n) : elements2_text(n);
+  }
+
+  /// One element of format 2: its entity gets the physical group; an element met before adds
+  /// only that.
+  void add_element2(std::size_t at, long long tag, int type, int physical, int elementary,
+                    const std::vector<std::size_t>& nodes) {
+    const GmshElementType& t = known_type(at, type);
+    if (tag <= 0) throw error(at, "element tag " + std::to_string(tag) + " (tags are positive)");
+    add_entity(t.dim, elementary, physical != 0 ? std::vector<int>{physical} : std::vector<int>{});
+    if (!seen_tags2_.insert(static_cast<std::size_t>(tag)).second) return;
+    auto [it, fresh] = block_of2_.emplace(std::tuple(t.dim, elementary, type), d_.blocks.size());
+    if (fresh) d_.blocks.push_back({t.dim, elementary, type, {}, {}});
+    element_nodes(at, static_cast<std::size_t>(tag), nodes.data(), t.nodes, d_.blocks[it->second]);
+  }
+
+  void elements2_text(std::size_t n) {
     std::vector<std::size_t> nodes;
-    auto add = [&](std::size_t at, long long tag, int type, int physical, int elementary,
-                   const std::vector<std::size_t>& element_nodes_) {
+    for (std::size_t done = 0; done < n; ++done) {
+      const std::size_t at = (skip_space(), pos_);
+      const long long tag = number<long long>("an element tag");
+      const int type = integer("an element type");
       const GmshElementType& t = known_type(at, type);
-      if (tag <= 0) throw error(at, "element tag " + std::to_string(tag) + " (tags are positive)");
-      add_entity(t.dim, elementary,
-                 physical != 0 ? std::vector<int>{physical} : std::vector<int>{});
-      if (!seen_tags.insert(static_cast<std::size_t>(tag)).second) return;
-      auto [it, fresh] = block_of.emplace(std::tuple(t.dim, elementary, type), d_.blocks.size());
-      if (fresh) d_.blocks.push_back({t.dim, elementary, type, {}, {}});
-      element_nodes(at, static_cast<std::size_t>(tag), element_nodes_.data(), t.nodes,
-                    d_.blocks[it->second]);
-    };
-    std::size_t done = 0;
-    if (!binary_) {
-      for (; done < n; ++done) {
-        const std::size_t at = (skip_space(), pos_);
-        const long long tag = number<long long>("an element tag");
-        const int type = integer("an element type");
-        const GmshElementType& t = known_type(at, type);
-        const int n_tags = integer("a number of element tags");
-        if (n_tags < 0 || n_tags > 64)
-          throw error(
-              at, "element " + std::to_string(tag) + " has " + std::to_string(n_tags) + " tags");
-        int physical = 0, elementary = 0;
-        for (int k = 0; k < n_tags; ++k) {
-          const int v = integer("an element tag");
-          if (k == 0) physical = v;
-          if (k == 1) elementary = v;
-        }
-        nodes.resize(t.nodes);
-        for (auto& v : nodes) {
-          const std::size_t nat = pos_;
-          const long long node = number<long long>("a node tag");
-          if (node <= 0)
-            throw error(nat, "element " + std::to_string(tag) + " has node " +
-                                 std::to_string(node) + ", which $Nodes does not define");
-          v = static_cast<std::size_t>(node);
-        }
-        add(at, tag, type, physical, elementary, nodes);
+      const int n_tags = integer("a number of element tags");
+      if (n_tags < 0 || n_tags > 64)
+        throw error(at,
+                    "element " + std::to_string(tag) + " has " + std::to_string(n_tags) + " tags");
+      int physical = 0, elementary = 0;
+      for (int k = 0; k < n_tags; ++k) {
+        const int v = integer("an element tag");
+        if (k == 0) physical = v;
+        if (k == 1) elementary = v;
       }
-      return;
+      nodes.resize(t.nodes);
+      for (auto& v : nodes) v = positive_tag(at, "a node tag", static_cast<std::size_t>(tag));
+      add_element2(at, tag, type, physical, elementary, nodes);
     }
-    while (done < n) {
+  }
+
+  void elements2_binary(std::size_t n) {
+    std::vector<std::size_t> nodes;
+    for (std::size_t done = 0; done < n;) {
       const std::size_t at = pos_;
       const int type = bin<int>("an element type");
       const int count_ = bin<int>("an element count");
@@ -507,7 +503,7 @@ class Parser {
                                  std::to_string(node) + ", which $Nodes does not define");
           v = static_cast<std::size_t>(node);
         }
-        add(eat, tag, type, physical, elementary, nodes);
+        add_element2(eat, tag, type, physical, elementary, nodes);
       }
     }
   }
@@ -521,6 +517,9 @@ class Parser {
   MshData d_;
   std::map<std::pair<int, int>, std::size_t> entity_index_;
   std::unordered_map<std::size_t, std::size_t> node_index_;
+  // Format 2: (dim, entity, type) -> block, and the element tags met.
+  std::map<std::tuple<int, int, int>, std::size_t> block_of2_;
+  std::unordered_set<std::size_t> seen_tags2_;
 };
 
 }  // namespace
