@@ -22,7 +22,10 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-bool parse_double(const std::string& text, double& v) {
+namespace {
+/// The whole of `text` (blanks around it and a leading '+' allowed) as a number of type T.
+template <class T>
+bool parse_number(const std::string& text, T& v) {
   const std::string s = trim(text);
   const char* b = s.data();
   const char* e = b + s.size();
@@ -31,16 +34,10 @@ bool parse_double(const std::string& text, double& v) {
   auto [p, ec] = std::from_chars(b, e, v);
   return ec == std::errc() && p == e;
 }
+}  // namespace
 
-bool parse_long(const std::string& text, long& v) {
-  const std::string s = trim(text);
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b != e && *b == '+') ++b;
-  if (b == e) return false;
-  auto [p, ec] = std::from_chars(b, e, v);
-  return ec == std::errc() && p == e;
-}
+bool parse_double(const std::string& text, double& v) { return parse_number(text, v); }
+bool parse_long(const std::string& text, long& v) { return parse_number(text, v); }
 
 std::string num(double v) {
   char buf[64];
