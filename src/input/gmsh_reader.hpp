@@ -11,7 +11,6 @@ struct MeshReadOptions {
   int order =
       0;  ///< 0: keep the file's order; 1 or 2: convert (Gmsh setOrder, serendipity hexahedra)
   double scale = 1.0;             ///< multiply coordinates
-  std::string key = "mesh.file";  ///< case-file key, for messages
   /// Read a .msh file through the Gmsh library, as hencky did before it had its own reader
   /// (after that reader has checked the file). For comparisons between the two.
   bool through_gmsh_library = false;

@@ -123,45 +123,19 @@ constexpr GmshElementType element_types[] = {
     {137, 16, 3, "Tetrahedron 16"},
 };
 
-bool volume_cell_type(int gmsh_type, CellType& t) {
-  switch (gmsh_type) {
-    case 4:
-      t = CellType::tet4;
+/// hencky's cell of a Gmsh element type of dimension `dim` (3: the body's cells, 2: the faces
+/// of surface regions); false when hencky has none (fem/cell_type.hpp names the Gmsh types).
+bool cell_type_of(int gmsh_type, int dim, CellType& t) {
+  constexpr std::pair<int, CellType> cells[] = {
+      {4, CellType::tet4},   {11, CellType::tet10}, {5, CellType::hex8},
+      {17, CellType::hex20}, {6, CellType::wedge6}, {2, CellType::tri3},
+      {9, CellType::tri6},   {3, CellType::quad4},  {16, CellType::quad8}};
+  for (const auto& [type, cell] : cells)
+    if (type == gmsh_type && cell_dim(cell) == dim) {
+      t = cell;
       return true;
-    case 11:
-      t = CellType::tet10;
-      return true;
-    case 5:
-      t = CellType::hex8;
-      return true;
-    case 17:
-      t = CellType::hex20;
-      return true;
-    case 6:
-      t = CellType::wedge6;
-      return true;
-    default:
-      return false;
-  }
-}
-
-bool face_cell_type(int gmsh_type, CellType& t) {
-  switch (gmsh_type) {
-    case 2:
-      t = CellType::tri3;
-      return true;
-    case 9:
-      t = CellType::tri6;
-      return true;
-    case 3:
-      t = CellType::quad4;
-      return true;
-    case 16:
-      t = CellType::quad8;
-      return true;
-    default:
-      return false;
-  }
+    }
+  return false;
 }
 
 /// The blocks of each entity, their types in increasing order (file order within a type), as
@@ -272,7 +246,7 @@ class MeshBuilder {
 
   void add_cells(const MshData::Block& b, int region) {
     CellType ct;
-    if (!volume_cell_type(b.type, ct))
+    if (!cell_type_of(b.type, 3, ct))
       throw fail("unsupported volume element " + gmsh_type_name(b.type) +
                  "; hencky supports 4/10-node tetrahedra, 8/20-node hexahedra and 6-node "
                  "wedges (use mesh.order: 2 for serendipity quadratic elements)");
@@ -334,7 +308,7 @@ class MeshBuilder {
   void add_region_elements(const MshData::Block& b, Region& r) {
     const GmshElementType* t = gmsh_element_type(b.type);
     CellType ct{};
-    const bool is_face = r.dim == 2 && face_cell_type(b.type, ct);
+    const bool is_face = r.dim == 2 && cell_type_of(b.type, 2, ct);
     if (r.dim == 2 && !is_face)
       throw fail("region '" + r.name + "': unsupported surface element " + gmsh_type_name(b.type));
     const int nn = t ? t->nodes : 0;

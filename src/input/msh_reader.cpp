@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <span>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
@@ -225,7 +226,9 @@ class Parser {
     }
   }
 
-  void add_entity(int dim, int tag, std::vector<int> physicals) {
+  /// The entity (dim, tag), created when first met, and its physical groups (each once).
+  /// Called per element in format 2: no allocation.
+  void add_entity(int dim, int tag, std::span<const int> physicals) {
     auto [it, fresh] = entity_index_.emplace(std::pair(dim, tag), d_.entities.size());
     if (fresh) d_.entities.push_back({dim, tag, {}});
     auto& phys = d_.entities[it->second].physicals;
@@ -258,7 +261,7 @@ class Parser {
             need(n_bound, 2, "an entity's bounding entities");
           for (std::size_t k = 0; k < n_bound; ++k) int_value("a bounding entity");
         }
-        add_entity(dim, tag, std::move(phys));
+        add_entity(dim, tag, phys);
       }
     }
   }
@@ -442,7 +445,7 @@ class Parser {
                     const std::vector<std::size_t>& nodes) {
     const GmshElementType& t = known_type(at, type);
     if (tag <= 0) throw error(at, "element tag " + std::to_string(tag) + " (tags are positive)");
-    add_entity(t.dim, elementary, physical != 0 ? std::vector<int>{physical} : std::vector<int>{});
+    add_entity(t.dim, elementary, std::span<const int>(&physical, physical != 0 ? 1 : 0));
     if (!seen_tags2_.insert(static_cast<std::size_t>(tag)).second) return;
     auto [it, fresh] = block_of2_.emplace(std::tuple(t.dim, elementary, type), d_.blocks.size());
     if (fresh) d_.blocks.push_back({t.dim, elementary, type, {}, {}});

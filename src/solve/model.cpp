@@ -292,7 +292,7 @@ void Model::thermal_out_of_range(int cell, double T, double t) const {
 
 void Model::check_temperature_range() {
   // What can be known before the first step (so that `hencky check` finds it too); the step
-  // loop checks every point's temperature at every step (solve/analysis.cpp).
+  // loop checks every point's temperature at every step (PointPass::temperatures).
   const auto& ts = case_->temperature;
   auto& ref = reference_strain_;
   ref.clear();

@@ -28,7 +28,7 @@ class StepTargets {
     queue_.pop_front();
     take_next();
   }
-  /// Half the way from `from` to the front target, one level deeper.
+  /// A target at `mid`, half way to the front one, before it; both one level deeper.
   void cut_back(double mid) {
     queue_.front().depth += 1;
     queue_.push_front({mid, queue_.front().depth});
