@@ -82,19 +82,8 @@ void read_surface(const Reader& r, const Val& surface, ContactSpec& c) {
 
 /// The penalty: stiffness (a number or auto) and the allowed penetration.
 void read_penalty(const Reader& r, const Map& m, ContactSpec& c) {
-  if (auto x = m.get("stiffness")) {
-    double k = 0;
-    const bool is_auto = x->node.IsScalar() && trim(x->node.Scalar()) == "auto";
-    if (!is_auto) {
-      if (!x->node.IsScalar() || !parse_double(x->node.Scalar(), k) || !std::isfinite(k) ||
-          !(k > 0))
-        r.fail(*x,
-               "expected 'auto' or a penalty stiffness > 0 (force per length, per node), "
-               "found " +
-                   describe(x->node));
-      c.stiffness = k;
-    }
-  }
+  if (auto x = m.get("stiffness"))
+    c.stiffness = r.positive_or_auto(*x, "a penalty stiffness > 0 (force per length, per node)");
   if (auto x = m.get("penetration")) {
     c.penetration = r.positive(*x);
     if (c.penetration >= 1)

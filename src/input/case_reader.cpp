@@ -2,8 +2,10 @@
 // are read in case_*.cpp (case_sections.hpp), on the YAML layer of yaml_source.hpp.
 #include "input/case_reader.hpp"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -11,6 +13,7 @@
 #include "core/suggest.hpp"
 #include "input/case_sections.hpp"
 #include "input/yaml_source.hpp"
+#include "solve/schemes.hpp"
 
 namespace hencky {
 
@@ -96,6 +99,46 @@ void check_no_tables(const std::vector<MaterialSpec>& materials) {
   }
 }
 
+/// A curve that is flat (or falls) from its yield point on at some temperature: perfect
+/// plasticity, a linear hardening ≤ 0, a table of one point or whose first segment does not
+/// rise. Its strain form F = ε(σ) does not exist above the yield stress.
+bool flat_from_yield(const CurveSpec& curve) {
+  switch (curve.kind) {
+    case CurveSpec::Kind::perfect:
+      return true;
+    case CurveSpec::Kind::linear:
+      return std::any_of(curve.hardening.value.begin(), curve.hardening.value.end(),
+                         [](double h) { return h <= 0; });
+    case CurveSpec::Kind::table:
+      return std::any_of(curve.tables.begin(), curve.tables.end(), [](const CurveSpec::Table& t) {
+        return t.stress.size() < 2 || t.stress[1] <= t.stress[0];
+      });
+    case CurveSpec::Kind::ramberg_osgood:
+      return false;
+  }
+  return false;
+}
+
+/// The schemes that iterate on the strain form of the curve stop at once on a curve that has
+/// none above its yield stress, instead of failing the first plastic step after iterating.
+void check_strain_form(const Case& c) {
+  if (!make_scheme(c.solver.scheme, c.solver.curve_form, c.solver.relaxation)->uses_strain_form())
+    return;
+  for (const auto& m : c.materials)
+    if (m.plasticity && flat_from_yield(m.plasticity->curve))
+      throw InputError(
+          m.plasticity->curve.where,
+          fmt::format("scheme '{}'{} iterates on the strain form ε̃ = F(σ̃) of the curve, and "
+                      "the curve of material '{}' has none above its yield stress (it is "
+                      "flat from there on: perfect plasticity). The schemes that can run it: "
+                      "newton, initial-stress, initial-stress-stiffness, and "
+                      "variable-stiffness with curve_form: stress",
+                      scheme_name(c.solver.scheme),
+                      c.solver.scheme == SchemeKind::variable_stiffness ? " (curve_form: strain)"
+                                                                        : "",
+                      m.name));
+}
+
 /// The sections of the top-level map, in the order later ones depend on earlier ones.
 void read_sections(const Reader& r, const Map& top, Case& c) {
   c.title = top.has("title") ? r.string(*top.get("title"), "a title") : c.file.stem().string();
@@ -111,7 +154,8 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
   if (auto x = top.get("boundary")) c.boundary = read_boundary(r, *x);
   if (auto x = top.get("body_force")) c.body_force = r.expression3(*x);
   if (auto x = top.get("contact")) c.contact = read_contact(r, *x);
-  c.solver = read_solver(r, top.get("solver"), !c.contact.empty());
+  c.solver = read_solver(r, top.get("solver"));
+  check_strain_form(c);
   c.output = read_output(r, top.get("output"),
                          c.file.parent_path() / (c.file.stem().string() + ".out"), c.boundary);
 }

@@ -55,7 +55,7 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v);
 // ---------------------------------------------------------------------------------------------
 // Solver and output (case_solver_output.cpp)
 
-SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_contact);
+SolverSpec read_solver(const Reader& r, const std::optional<Val>& v);
 OutputSpec read_output(const Reader& r, const std::optional<Val>& v,
                        const std::filesystem::path& default_dir,
                        const std::vector<BoundarySpec>& boundary);

@@ -23,7 +23,7 @@ const std::vector<std::string> solver_keys = {
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> predictors = {"extrapolate", "none"};
-const std::vector<std::string> accelerations = {"none", "anderson"};
+const std::vector<std::string> accelerations = {"auto", "none", "anderson"};  // Acceleration
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
@@ -88,25 +88,17 @@ E index_of(const std::vector<std::string>& names, const std::string& name, E) {
   return static_cast<E>(std::find(names.begin(), names.end(), name) - names.begin());
 }
 
-/// acceleration: none or anderson, where the iteration is a fixed map.
-void read_acceleration(const Reader& r, const Val& x, bool has_contact, SolverSpec& s) {
-  s.anderson = r.choice(x, accelerations, "acceleration") == "anderson";
-  // Anderson mixing needs a fixed map u -> u + K^-1 r(u): a fixed matrix, and a point law that
-  // depends on the iterate only (the initial-strain schemes carry their relaxed initial strain
-  // from one iteration to the next).
-  if (s.anderson && !make_scheme(s.scheme, s.curve_form, s.relaxation)->allows_acceleration())
+/// acceleration: auto, none or anderson; anderson where the iteration is a fixed map.
+void read_acceleration(const Reader& r, const Val& x, SolverSpec& s) {
+  using A = SolverSpec::Acceleration;
+  s.acceleration = index_of(accelerations, r.choice(x, accelerations, "acceleration"), A::none);
+  // Anderson mixing needs a fixed map: a fixed matrix within the step.
+  if (s.acceleration == A::anderson &&
+      !make_scheme(s.scheme, s.curve_form, s.relaxation)->allows_acceleration())
     r.fail(x,
-           "acceleration: anderson applies to the schemes initial-stress and "
-           "initial-stress-stiffness (a fixed matrix and a point law of the iterate alone), "
-           "not to '" +
+           "acceleration: anderson applies to the fixed-matrix schemes initial-stress, "
+           "initial-stress-stiffness, initial-strain and initial-strain-stiffness, not to '" +
                std::string(scheme_name(s.scheme)) + "'");
-  // The contact's augmented forces are memory of the same kind (measured: Anderson needed
-  // 155 iterations where the plain iteration needed 89 on a plastic indentation).
-  if (s.anderson && has_contact)
-    r.fail(x,
-           "acceleration: anderson cannot be combined with contact (the contact forces carry "
-           "over from one iteration to the next, so the iteration is no fixed map of the "
-           "displacements that Anderson mixing could accelerate); remove it");
 }
 
 /// petsc_options: only options: a token that is no option must be the value of the one before it.
@@ -129,7 +121,7 @@ std::span<const KeySection> solver_output_sections() {
   return sections;
 }
 
-SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_contact) {
+SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   SolverSpec s;
   if (!v) return s;
   Map m(r, *v, solver_keys);
@@ -143,7 +135,8 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
     if (!(s.tolerance > 0 && s.tolerance < 1))
       r.fail(*x, "expected a relative tolerance with 0 < tolerance < 1, found " + num(s.tolerance));
   }
-  if (auto x = m.get("relaxation")) s.relaxation = r.positive(*x);
+  if (auto x = m.get("relaxation"))
+    s.relaxation = r.positive_or_auto(*x, "a relaxation factor > 0").value_or(0.0);
   if (auto x = m.get("correction")) {
     s.correction = r.number(*x);
     if (s.correction < 0)
@@ -153,7 +146,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v, bool has_co
   if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
   if (auto x = m.get("predictor"))
     s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
-  if (auto x = m.get("acceleration")) read_acceleration(r, *x, has_contact, s);
+  if (auto x = m.get("acceleration")) read_acceleration(r, *x, s);
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
     s.linear = l == "direct"      ? SolverSpec::Linear::direct

@@ -129,6 +129,14 @@ double Reader::positive(const Val& v) const {
   return x;
 }
 
+std::optional<double> Reader::positive_or_auto(const Val& v, const std::string& what) const {
+  if (v.node.IsScalar() && trim(v.node.Scalar()) == "auto") return std::nullopt;
+  double x = 0;
+  if (!v.node.IsScalar() || !parse_double(v.node.Scalar(), x) || !std::isfinite(x) || !(x > 0))
+    fail(v, "expected 'auto' or " + what + ", found " + describe(v.node));
+  return x;
+}
+
 double Reader::material_number(const Val& v) const {
   const double x = number(v);
   if (x != 0 && std::abs(x) < std::numeric_limits<double>::min())

@@ -77,6 +77,8 @@ class Reader {
   long integer(const Val& v) const;
   int integer_at_least(const Val& v, long min) const;
   double positive(const Val& v) const;
+  /// `auto` (nullopt) or a number > 0; `what` completes "expected 'auto' or ..." on failure.
+  std::optional<double> positive_or_auto(const Val& v, const std::string& what) const;
   /// A number of a material's data (E, nu, alpha, a table's values, a curve's points):
   /// finite, and not subnormal (0 < |x| < DBL_MIN, e.g. 1e-310), which the stiffness and
   /// stress arithmetic cannot carry: it has lost precision already and its products vanish.

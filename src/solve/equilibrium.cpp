@@ -59,6 +59,17 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // step then failed; from the converged state it took 10 iterations).
   extrapolate_ = plastic_ && scheme_->kind() == SchemeKind::newton && m.spec().solver.extrapolate &&
                  m.contacts().empty();
+  // solver.acceleration: auto mixes wherever the scheme's iteration is a fixed map (the reader
+  // refuses `anderson` elsewhere).
+  using A = SolverSpec::Acceleration;
+  const A a = m.spec().solver.acceleration;
+  // With a relaxation of their own the initial-strain schemes keep the report's plain
+  // iteration unless `anderson` is asked for: a given ω far from auto's makes the relaxed
+  // initial strain a poor secant history (measured: a restrained heated bar with ω = 0.03
+  // converges plain and cycles mixed).
+  const bool given_omega = scheme_->iterates_initial_strain() && m.spec().solver.relaxation > 0;
+  mix_ = a == A::anderson ||
+         (a == A::automatic && scheme_->allows_acceleration() && !given_omega);
   if (plastic_) model_size_ = model_size(m.mesh());
   if (m.has_temperature())
     for (const auto& mat : m.materials())
@@ -93,13 +104,21 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   out = StepOutcome{};
   begin(c, t1, trial);
   Evaluation ev = evaluate(c, trial, false);
-  // Force scale of the step, fixed at the start: the loads, the internal forces before and
-  // after the first iterate, and its residual (which carries thermal and prescribed-
-  // displacement loading). A step whose answer has no load and no stress (free expansion,
-  // unloading to zero) still has a scale, so round-off is recognised as convergence.
-  const double f_norm =
-      std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
-  if (extrapolate_) ev = predict(c, trial, ev);  // the predictor is chosen before the loop
+  const double f_step = step_force(c, trial, ev);
+  const double f_norm = std::max(f_step, history_force(c));
+  bool extrapolated = false;
+  if (extrapolate_) ev = predict(c, trial, ev, f_norm, extrapolated);  // before the loop
+  // newton's elastic start: at u(t) the step's prescribed displacements and thermal strains act
+  // on a body that has not deformed with them yet, all in the cells next to the supports or
+  // where the temperature changes; the return mapping there yields points (a whole layer of
+  // elements under a prescribed displacement) that the first solve would treat as plastic,
+  // and from which the iteration did not recover (measured: a cube stretched by its face, an
+  // elastic step cut back four times). The first solve of a step that is not extrapolated is
+  // the elastic one, as Abaqus/Standard's first iteration of an increment spreads a prescribed
+  // displacement with the stiffness of the converged state; the point law decides from the
+  // first iterate on.
+  if (scheme_->kind() == SchemeKind::newton && !extrapolated && ev.points.plastic_points > 0)
+    ev = evaluate(c, trial, false, true);
   double previous_residual = INFINITY;
   anderson_.reset();
   for (out.iterations = 0;; ++out.iterations) {
@@ -125,11 +144,32 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
     if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
     if (converged(out)) {
       accept(c, trial, scale, out);
+      const double dt = trial.time - c.time;
+      trial.force_integral = c.force_integral + f_step * dt;
+      trial.force_duration = c.force_duration + dt;
       return true;
     }
     if (out.iterations >= spec.max_iterations) return false;
     advance(trial, ev, out.iterations, out.residual, previous_residual);
   }
+}
+
+/// The force scale of the step, fixed at its start: the loads, the internal forces before and
+/// after the first iterate (reactions included), and its residual (which carries thermal and
+/// prescribed-displacement loading). It vanishes in a step whose start and target have no load
+/// and no stress: free expansion, or unloading to zero (then history_force holds the scale).
+double Equilibrium::step_force(const State& c, const State& trial, const Evaluation& ev) const {
+  return std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
+}
+
+/// The force scale of the history: the time average of the steps' force scales over the
+/// converged steps (as Abaqus/Standard's time-averaged force, Abaqus Analysis User's Guide
+/// 7.2.3). A step whose own forces have gone to round-off, as when the load has been removed
+/// and the body is free of stress, measures its residual against the forces the analysis has
+/// carried, which cannot vanish once a load was applied: the round-off of the unloaded state
+/// converges at once, where against its own scale it read as a relative residual of order 1.
+double Equilibrium::history_force(const State& c) const {
+  return c.force_duration > 0 ? c.force_integral / c.force_duration : 0.0;
 }
 
 /// The step's loads, temperatures and prescribed displacements at t1, the points' and the
@@ -158,10 +198,11 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
 
 /// The iterate trial.u: points and internal forces, then (after a solve) the contact's steps
 /// 3-4, then the residual.
-Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact) {
+Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact,
+                                              bool elastic) {
   Evaluation ev;
   auto t0 = Clock::now();
-  ev.points = points_.update(c, trial);
+  ev.points = points_.update(c, trial, elastic);
   timings_.material += seconds_since(t0);
   negative_secant_cell_ = ev.points.negative_secant_cell;
   if (const int e = ev.points.undefined_cell; e >= 0)
@@ -192,10 +233,15 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
 /// the residual norm of the extrapolated start was the larger). Returns the evaluation of the
 /// start kept; rhs_ and the points hold it.
 Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
-                                             const Evaluation& at_start) {
+                                             const Evaluation& at_start, double force_scale,
+                                             bool& extrapolated) {
   const auto& dofs = m_.dofs();
   const double dt = trial.time - c.time;
+  extrapolated = false;
   if (last_dt_ <= 0 || dt <= 0) return at_start;
+  // A start already in equilibrium (the load does not change in this step) needs no
+  // predictor, and the sign of its round-off out-of-balance force says nothing.
+  if (std::sqrt(at_start.r2) <= m_.spec().solver.tolerance * force_scale) return at_start;
   double work = 0;
   for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
   if (only_) par::broadcast(std::span<double>(&work, 1));  // one decision for all ranks
@@ -208,6 +254,7 @@ Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
     if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
   points_.begin_step(c, trial);  // the extrapolated start is the step's iteration 0
   Evaluation ev = evaluate(c, trial, false);
+  extrapolated = true;
   ev.points.tangent_changed = ev.points.tangent_changed || at_start.points.tangent_changed;
   log_.detail(
       "  predictor: extrapolated start ({:.3g} of the last increment), residual {:.3e} "
@@ -294,18 +341,65 @@ void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, dou
           "PETSc option '{}' was not used (misspelt, or for a solver that is not in use)", name));
   }
   timings_.solve += seconds_since(t0);
-  if (spec.anderson) {
-    // A new matrix is a new fixed-point map, and a step that doubled the residual left the
-    // region where the history describes it: start the history again from here.
-    if (refactor || residual > 2 * previous_residual) anderson_.reset();
+  if (mix_) {
+    // A new matrix is a new fixed-point map, and so is a new contact set or a raised κ; a step
+    // that doubled the residual left the region where the history describes it: start the
+    // history again from here.
+    const bool contact_moved = contact_.active() && (contact_.progress().set_changed ||
+                                                     contact_.progress().kappa_raised);
+    const bool restart =
+        iteration == 0 || refactor || contact_moved || residual > 2 * previous_residual;
+    if (restart) anderson_.reset();
     previous_residual = residual;
-    free_u_.resize(dofs.n_free);
-    for (int i = 0; i < dofs.n_dofs(); ++i)
-      if (int k = dofs.eq[i]; k >= 0) free_u_[k] = trial.u[i];
-    anderson_.accelerate(free_u_, delta_);
+    // The initial-strain schemes' displacement follows their λ0 only from the first solve
+    // with the matrix on: the start of a step (u(t), the new load not yet applied) and the
+    // iterate before a new matrix do not. Their plain update is the history's first entry.
+    if (scheme_->iterates_initial_strain() && restart)
+      points_.initial_strains(lambda0_in_);
+    else
+      mix(trial);
   }
   for (int i = 0; i < dofs.n_dofs(); ++i)
     if (int k = dofs.eq[i]; k >= 0) trial.u[i] += delta_[k];
+}
+
+/// Anderson's mixing of this iteration: the plain correction delta_ (and, for the
+/// initial-strain schemes, the points' plain update of λ0) replaced by the mixed one.
+/// The initial-strain schemes iterate on λ0, and the displacement follows it: after one solve
+/// with the scheme's fixed matrix, u + δ is the displacement of the plain update of λ0 exactly
+/// (the stress law is linear in Δε for fixed λ0), so the mixed displacement is the same
+/// combination of those displacements as the mixed λ0 is of the plain updates. The least
+/// squares then weighs only λ0 (by the points' volumes); the displacements weigh 0.
+void Equilibrium::mix(State& trial) {
+  const auto& dofs = m_.dofs();
+  const bool strains = scheme_->iterates_initial_strain();
+  const std::size_t n_u = dofs.n_free;
+  if (strains) points_.initial_strains(lambda0_out_, &mix_weights_);
+  const std::size_t n = n_u + (strains ? lambda0_out_.size() : 0);
+  mix_x_.resize(n);
+  mix_f_.resize(n);
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) mix_x_[k] = trial.u[i];
+  std::copy(delta_.begin(), delta_.end(), mix_f_.begin());
+  if (strains) {
+    mix_weights_.insert(mix_weights_.begin(), n_u, 0.0);
+    for (std::size_t j = 0; j < lambda0_out_.size(); ++j) {
+      mix_x_[n_u + j] = lambda0_in_[j];
+      mix_f_[n_u + j] = lambda0_out_[j] - lambda0_in_[j];
+    }
+  } else {
+    mix_weights_.assign(n, 1.0);
+  }
+  // The displacements are whole on every rank; the points are each rank's own.
+  std::function<void(std::span<double>)> reduce;
+  if (strains && only_) reduce = [](std::span<double> v) { par::sum_in_place(v); };
+  anderson_.accelerate(mix_x_, mix_f_, mix_weights_, reduce);
+  std::copy(mix_f_.begin(), mix_f_.begin() + n_u, delta_.begin());
+  if (strains) {
+    for (std::size_t j = 0; j < lambda0_out_.size(); ++j)
+      lambda0_in_[j] = mix_x_[n_u + j] + mix_f_[n_u + j];
+    points_.set_initial_strains(lambda0_in_);
+  }
 }
 
 /// rhs_ = target + F_contact − F_int on the free dofs for the evaluated iterate (the support's

@@ -56,13 +56,17 @@ class Equilibrium {
   };
 
   void begin(const State& c, double t1, State& trial);
-  Evaluation evaluate(const State& c, State& trial, bool update_contact);
-  Evaluation predict(const State& c, State& trial, const Evaluation& at_start);
+  double step_force(const State& c, const State& trial, const Evaluation& ev) const;
+  double history_force(const State& c) const;
+  Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
+  Evaluation predict(const State& c, State& trial, const Evaluation& at_start, double scale,
+                     bool& extrapolated);
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
   void advance(State& trial, const Evaluation& ev, int iteration, double residual,
                double& previous_residual);
+  void mix(State& trial);
   double residual_vector(State& trial, double* loads2 = nullptr);
   double equilibrium_defect(const State& s) const;
   void remember_increment(const State& c, const State& trial);
@@ -84,13 +88,17 @@ class Equilibrium {
   int factorizations_ = 0;
   double model_size_ = 0;          ///< diagonal of the mesh's bounding box
   int negative_secant_cell_ = -1;  ///< of the last point pass, for factorize's message
-  std::vector<double> target_, rhs_, delta_, free_u_;
+  std::vector<double> target_, rhs_, delta_;
   // newton's predictor (solver.predictor): the last converged increment of the free unknowns
   // and its Δt
   bool extrapolate_ = false;
   std::vector<double> last_du_;
   double last_dt_ = 0;
-  Anderson anderson_{5};  ///< solver.acceleration: anderson
+  bool mix_ = false;       ///< solver.acceleration resolved: Anderson mixing of the iterates
+  Anderson anderson_{5};
+  // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
+  // schemes' λ0 the current iterate was evaluated with and the points' plain update of it
+  std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_;
 };
 
 }  // namespace hencky

@@ -90,7 +90,7 @@ void PointPass::begin_step(const State& c, const State& trial) {
 
 /// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
 /// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
-PointPassResult PointPass::update(const State& c, State& trial) {
+PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
   const auto& mesh = m_.mesh();
   trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
   std::atomic<bool> changed{false};
@@ -112,10 +112,22 @@ PointPassResult PointPass::update(const State& c, State& trial) {
         for (int q = 0; q < kin.points; ++q) {
           const int p = m_.point_offset(e) + q;
           const Voigt d_eps = kin.strain(q, du);
-          if (!plastic) {
+          if (!plastic || elastic) {
             trial.stress[p] =
                 elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
                                       trial.temperature[p], c.stress[p], d_eps);
+            if (plastic) {
+              trial.plastic_strain[p] = c.plastic_strain[p];
+              trial.eps_p_eq[p] = c.eps_p_eq[p];
+              trial.eps_ep[p] = c.eps_ep[p];
+              trial.eps_ep_max[p] = c.eps_ep_max[p];
+              trial.flowing[p] = 0;
+              defect_sigma_[p] = defect_eps_[p] = 0;
+              if (const Tangent d{}; tangent_[p].dev_scale != 0 || tangent_[p].coef != 0) {
+                tangent_[p] = d;
+                changed.store(true, std::memory_order_relaxed);
+              }
+            }
           } else {
             const Voigt d_mech = d_eps - thermal_strain_increment(
                                              c.constants[p], c.temperature[p], trial.constants[p],
@@ -160,6 +172,27 @@ PointPassResult PointPass::update(const State& c, State& trial) {
   if (only_) par::sum_in_place(std::span<double>(trial.f_int));
   if (plastic_ && r.undefined_cell < 0) measures(trial, r);
   return r;
+}
+
+void PointPass::initial_strains(std::vector<double>& lambda0, std::vector<double>* volume) const {
+  lambda0.clear();
+  if (volume) volume->clear();
+  for (int e = 0; e < m_.mesh().cells.size(); ++e) {
+    if (!m_.material_of(e).plastic() || !mine(e)) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+      lambda0.push_back(point_iter_[p].lambda0);
+      if (volume) volume->push_back(point_volume_[p]);
+    }
+  }
+}
+
+void PointPass::set_initial_strains(std::span<const double> lambda0) {
+  std::size_t i = 0;
+  for (int e = 0; e < m_.mesh().cells.size(); ++e) {
+    if (!m_.material_of(e).plastic() || !mine(e)) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
+      point_iter_[p].lambda0 = lambda0[i++];
+  }
 }
 
 /// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the

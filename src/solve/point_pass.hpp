@@ -2,6 +2,7 @@
 // The integration points' part of an iteration: the temperatures and E, ν, α at the points,
 // what the scheme keeps fixed at each point during a step (begin_step), and the point update
 // with the internal forces (update), which returns what it found instead of leaving flags.
+#include <span>
 #include <vector>
 
 #include "core/log.hpp"
@@ -36,9 +37,16 @@ class PointPass {
   /// Stresses, plastic state and internal forces of the iterate trial.u (elastic points:
   /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
   /// the scheme's matrices for the next solve, and the measures. Collective.
-  PointPassResult update(const State& c, State& trial);
+  /// `elastic`: every point of a plastic material too takes the elastic law, with the elastic
+  /// matrix, and the scheme's memory is left as it was (newton's elastic start of a step).
+  PointPassResult update(const State& c, State& trial, bool elastic = false);
   /// The scheme's matrix at each point, from the last update (plastic materials only).
   const std::vector<Tangent>& tangents() const { return tangent_; }
+  /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials
+  /// (PointIteration::lambda0, in the order of the cells), and each point's volume.
+  void initial_strains(std::vector<double>& lambda0, std::vector<double>* volume = nullptr) const;
+  /// Replaces λ0 at those points (Anderson's mixed iterate).
+  void set_initial_strains(std::span<const double> lambda0);
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;

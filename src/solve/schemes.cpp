@@ -218,6 +218,8 @@ class InitialStrainLaw : public Scheme {
  public:
   explicit InitialStrainLaw(double omega) : omega_(omega) {}
   bool uses_strain_form() const override { return true; }
+  bool allows_acceleration() const override { return true; }
+  bool iterates_initial_strain() const override { return true; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
@@ -233,7 +235,14 @@ class InitialStrainLaw : public Scheme {
     }
     u.defect_eps = fk.value - (a.eps0 + a.xt);
     u.defect_sigma = ds - it.ds_prev;
-    double lambda0 = it.lambda0 + omega_ * u.defect_eps;  // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z
+    // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z. relaxation: auto (omega_ = 0) takes ω = 1/(tan β*·F'(σ̃_k))
+    // (= tan β/3G with the elastic matrix) from the curve's slope tan β = 1/F' where the
+    // iterate's stress is: the scalar Newton step of a point whose strain is held, which lands
+    // it on a linear curve at once. A point held by its surroundings contracts by 1 − a·ω with
+    // a between 1 (its stress held) and tan β*/tan β (its strain held): with this ω every
+    // factor lies in [0, 1), half the stability bound (docs/schemes.md).
+    const double omega = omega_ > 0 ? omega_ : std::min(1.0, 1.0 / (tb * fk.slope));
+    double lambda0 = it.lambda0 + omega * u.defect_eps;
     // Δε^p = Ỹ(x − Zλ0) + Zλ0, (2.25): along Z, Ỹ contributes (3G − tanβ*)/3G of it.
     const double lambda = lambda0 + (three_g - tb) / three_g * (a.xt - lambda0);
     if (stiffness()) {

@@ -85,9 +85,13 @@ class Scheme {
   virtual SchemeKind kind() const = 0;
   const char* name() const { return scheme_name(kind()); }
   virtual MatrixPolicy matrix_policy() const = 0;
-  /// Anderson mixing applies: a fixed matrix and a point law of the iterate alone (the
-  /// initial-strain schemes carry their relaxed initial strain from one iteration to the next).
+  /// Anderson mixing applies: a fixed matrix within the step (not newton and
+  /// variable-stiffness, whose matrix changes every iteration).
   virtual bool allows_acceleration() const { return false; }
+  /// The iterated state is the initial strain Δε^0 = Zλ0 the points carry from one iteration
+  /// to the next (PointIteration::lambda0), which the displacements follow: Anderson mixes λ0
+  /// (the initial-strain schemes). Otherwise the iterate is the displacement alone.
+  virtual bool iterates_initial_strain() const { return false; }
   /// Uses the curve's strain form F = ε(σ) (undefined above the curve's largest stress).
   virtual bool uses_strain_form() const { return false; }
 

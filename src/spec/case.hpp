@@ -226,7 +226,9 @@ struct SolverSpec {
   StepTimes times;                    ///< end times of the steps
   int max_iterations = 50;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
-  double relaxation = 1.0;  ///< > 0
+  /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
+  /// at each point the curve's slope at the iterate, ω = tan β / 3G (docs/schemes.md).
+  double relaxation = 0;
   double correction = 1.0;  ///< >= 0; 0 turns the error correction off
   int cutback = 4;          ///< >= 0
   /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
@@ -236,9 +238,12 @@ struct SolverSpec {
   /// displacement increment scaled to this step's length, when the new load does positive work
   /// on it; otherwise (and for the other schemes) from the converged state.
   bool extrapolate = true;
-  /// `acceleration: anderson` (initial-stress and initial-stress-stiffness only): Anderson
-  /// mixing of the fixed-matrix iterations, depth 5 (src/solve/anderson.hpp).
-  bool anderson = false;
+  /// `acceleration`: Anderson mixing of the fixed-matrix iterations, depth 5
+  /// (src/solve/anderson.hpp). `auto` (the default) mixes wherever the scheme allows it
+  /// (Scheme::allows_acceleration), `anderson` asks for it (an input error where the scheme does
+  /// not allow it), `none` is the report's plain iteration.
+  enum class Acceleration { automatic, none, anderson };
+  Acceleration acceleration = Acceleration::automatic;
   /// direct and iterative are the serial back ends; petsc (and every run on more than one MPI
   /// rank) the PETSc one.
   Linear linear = Linear::direct;

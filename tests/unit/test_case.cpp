@@ -251,12 +251,12 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_EQ(c.solver.times.all(), (std::vector<double>{1.0}));
   EXPECT_EQ(c.solver.max_iterations, 50);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-6);
-  EXPECT_DOUBLE_EQ(c.solver.relaxation, 1.0);
+  EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.0);  // auto
   EXPECT_DOUBLE_EQ(c.solver.correction, 1.0);
   EXPECT_EQ(c.solver.cutback, 4);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
   EXPECT_TRUE(c.solver.extrapolate);
-  EXPECT_FALSE(c.solver.anderson);
+  EXPECT_EQ(c.solver.acceleration, SolverSpec::Acceleration::automatic);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::direct);
   EXPECT_EQ(c.output.dir, dir_ / "case.out");
   EXPECT_EQ(c.output.every, 1);
@@ -583,8 +583,10 @@ TEST_F(CaseTest, ContactErrorsNameTheKey) {
   expect_error(plane + "  - name: floor\n    nodes: top\n",
                {"'contact[1].name'", "already used by contact[0]"});
   expect_error(plane + "    nodes2: x\n", {"'contact[0].nodes2'", "unknown key"});
-  expect_error(plane + "solver: {scheme: initial-stress, acceleration: anderson}\n",
-               {"'solver.acceleration'", "cannot be combined with contact"});
+  // Anderson mixing restarts whenever the contact set changes (docs/schemes.md).
+  EXPECT_EQ(read(plane + "solver: {scheme: initial-stress, acceleration: anderson}\n")
+                .solver.acceleration,
+            SolverSpec::Acceleration::anderson);
 }
 
 TEST_F(CaseTest, PetscBackEnd) {
@@ -678,6 +680,28 @@ TEST_F(CaseTest, PlasticityValuesMayNotBeSubnormal) {
                {"'materials[0].plasticity.perfect.yield'", "subnormal"});
   expect_error(phead + "      ramberg_osgood: {E: 2e11, yield: 2e8, alpha: 1e-309, n: 5}\n",
                {"'materials[0].plasticity.ramberg_osgood.alpha'", "subnormal"});
+}
+
+// A scheme on the strain form F = ε(σ) of the curve stops at once, naming the schemes that can,
+// where the curve is flat from its yield point on (issue 16): F does not exist above it.
+TEST_F(CaseTest, StrainFormSchemesRefuseCurvesFlatFromYield) {
+  const std::vector<std::string> flat = {
+      "      perfect: {yield: 240e6}\n",
+      "      linear: {yield: 240e6, hardening: 0}\n",
+      "      curve: {kind: plastic, table: [{strain: [0], stress: [240e6]}]}\n",
+      "      curve: {kind: plastic, table: [{strain: [0, 0.1], stress: [240e6, 240e6]}]}\n"};
+  for (const std::string& curve : flat) {
+    for (const char* solver : {"{scheme: initial-strain}", "{scheme: initial-strain-stiffness}",
+                               "{scheme: variable-stiffness, curve_form: strain}"})
+      expect_error(phead + curve + "solver: " + solver + "\n",
+                   {"'materials[0].plasticity", "strain form", "newton, initial-stress",
+                    "curve_form: stress"});
+    for (const char* solver : {"{scheme: newton}", "{scheme: initial-stress}",
+                               "{scheme: variable-stiffness}"})
+      EXPECT_NO_THROW(read(phead + curve + "solver: " + solver + "\n")) << curve << solver;
+  }
+  EXPECT_NO_THROW(read(phead + "      linear: {yield: 240e6, hardening: 2e9}\n" +
+                       "solver: {scheme: initial-strain}\n"));
 }
 
 TEST_F(CaseTest, PlasticityAnalyticCurves) {
@@ -874,7 +898,8 @@ TEST_F(CaseTest, SolverChoices) {
   expect_error(base + "solver:\n  curve_form: stres\n", {"did you mean 'stress'?"});
   expect_error(base + "solver:\n  linear: drect\n", {"'solver.linear'", "did you mean 'direct'?"});
   expect_error(base + "solver:\n  correction: -0.5\n", {"'solver.correction'", ">= 0"});
-  expect_error(base + "solver:\n  relaxation: 0\n", {"'solver.relaxation'", "> 0"});
+  expect_error(base + "solver:\n  relaxation: 0\n", {"'solver.relaxation'", "expected 'auto' or", "> 0"});
+  EXPECT_DOUBLE_EQ(read(base + "solver: {relaxation: auto}\n").solver.relaxation, 0.0);
   expect_error(base + "solver:\n  cutback: -1\n", {"'solver.cutback'", ">= 0"});
   expect_error(base + "solver:\n  mechanism_limit: 0\n", {"'solver.mechanism_limit'", "> 0"});
   expect_error(base + "solver:\n  predictor: extrapolated\n",
@@ -883,6 +908,10 @@ TEST_F(CaseTest, SolverChoices) {
                {"'solver.acceleration'", "did you mean 'anderson'?"});
   expect_error(base + "solver:\n  acceleration: anderson\n",
                {"'solver.acceleration'", "initial-stress-stiffness", "not to 'newton'"});
+  EXPECT_EQ(read(base + "solver: {acceleration: auto}\n").solver.acceleration,
+            SolverSpec::Acceleration::automatic);
+  EXPECT_EQ(read(base + "solver: {scheme: initial-stress, acceleration: none}\n").solver.acceleration,
+            SolverSpec::Acceleration::none);
 }
 
 TEST_F(CaseTest, Output) {

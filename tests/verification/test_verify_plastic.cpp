@@ -313,7 +313,10 @@ TEST(VerifyPlastic, NewtonConvergesQuadratically) {
   const double p_end = 0.9 * h.limit();
   for (const std::string scheme : {"newton", "initial-stress-stiffness"}) {
     std::string yaml = cylinder_case(h, scheme, p_end, 1);
-    yaml.replace(yaml.find("steps: 1"), 8, "times: [0.6, 0.7, 0.8, 0.9, 1.0]");
+    // The plain iteration (without Anderson mixing, which converges superlinearly).
+    yaml.replace(yaml.find("steps: 1"), 8,
+                 std::string("times: [0.6, 0.7, 0.8, 0.9, 1.0]") +
+                     (scheme == "newton" ? "" : ", acceleration: none"));
     yaml.replace(yaml.find("tolerance: 1e-8"), 15, "tolerance: 1e-11");
     auto r = run_all(dir.path(), yaml);
     ASSERT_EQ(r->result.status, AnalysisStatus::converged) << scheme << ": " << r->result.failure;
@@ -385,7 +388,7 @@ TEST(VerifyPlastic, AndersonAccelerationKeepsTheAnswerAndCutsIterations) {
       std::string yaml = cylinder_case(h, scheme, p_end, 1);
       yaml.replace(yaml.find("steps: 1"), 8,
                    std::string("times: [0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95, 1.0]") +
-                       (k == 1 ? ", acceleration: anderson" : ""));
+                       (k == 1 ? ", acceleration: anderson" : ", acceleration: none"));
       yaml.replace(yaml.find("max_iterations: 100"), 19, "max_iterations: 1000");
       runs[k] = run_all(dir.path(), yaml);
       ASSERT_EQ(runs[k]->result.status, AnalysisStatus::converged) << runs[k]->result.failure;
