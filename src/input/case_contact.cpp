@@ -98,11 +98,9 @@ std::span<const KeySection> contact_sections() {
 }
 
 std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
-  if (v.node.IsMap())
-    r.fail(v, "expected a list of contacts (start each entry with '- '), found a map");
   std::vector<ContactSpec> out;
   std::map<std::string, std::size_t> names;
-  const auto items = r.list(v, "a list of contacts");
+  const auto items = r.entries(v, "a list of contacts");
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Val& item = items[i];
     Map m(r, item, contact_keys,

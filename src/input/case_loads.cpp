@@ -88,11 +88,9 @@ void read_displacement(const Reader& r, const Val& c, std::size_t i, Prescribed&
 }  // namespace
 
 std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
-  if (v.node.IsMap())
-    r.fail(v, "expected a list of conditions (start each entry with '- '), found a map");
   std::vector<BoundarySpec> out;
   Prescribed prescribed;
-  const auto items = r.list(v, "a list of conditions");
+  const auto items = r.entries(v, "a list of conditions");
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Val& item = items[i];
     Map m(r, item, boundary_keys,

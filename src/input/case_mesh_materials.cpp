@@ -180,9 +180,7 @@ void read_material_law(const Reader& r, const Map& m, bool has_temperature, Mate
 }  // namespace
 
 std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has_temperature) {
-  if (v.node.IsMap())
-    r.fail(v, "expected a list of materials (start each entry with '- '), found a map");
-  const auto items = r.list(v, "a list of materials");
+  const auto items = r.entries(v, "a list of materials");
   if (items.empty()) r.fail(v, "expected at least one material, found an empty list");
   std::vector<MaterialSpec> out;
   std::map<std::string, std::size_t> names;

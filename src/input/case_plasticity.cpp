@@ -82,12 +82,8 @@ void read_table_curve(const Reader& r, const Val& c, const MaterialSpec& mat, Cu
                                    : CurveSpec::Form::intensity;
   const Val tv = cm.require(
       r, "table", "one entry per temperature: [{temperature: 20, strain: [...], stress: [...]}]");
-  if (tv.node.IsMap())
-    r.fail(tv,
-           "expected a list of tables (start each entry with '- ' or write [{...}]), found a "
-           "map");
   const auto items =
-      r.list(tv, "a list of tables [{temperature: T, strain: [...], stress: [...]}]");
+      r.entries(tv, "a list of tables [{temperature: T, strain: [...], stress: [...]}]");
   if (items.empty()) r.fail(tv, "expected at least one table, found an empty list");
   const bool converted =
       curve.form != CurveSpec::Form::plastic && !(mat.E.is_constant() && mat.nu.is_constant());

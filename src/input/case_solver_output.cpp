@@ -171,10 +171,8 @@ namespace {
 /// output.probes: named points whose displacement goes into history.csv.
 std::vector<ProbeSpec> read_probes(const Reader& r, const Val& x) {
   std::vector<ProbeSpec> probes;
-  if (x.node.IsMap())
-    r.fail(x, "expected a list of probes (start each entry with '- '), found a map");
   std::map<std::string, std::size_t> names;
-  for (const auto& item : r.list(x, "a list of probes")) {
+  for (const auto& item : r.entries(x, "a list of probes")) {
     Map pm(r, item, probe_keys, "a probe {name: A, point: [x, y, z]}");
     ProbeSpec p;
     const Val name = pm.require(r, "name", "the probe's name, used in history.csv");

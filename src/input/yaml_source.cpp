@@ -171,6 +171,11 @@ std::vector<Val> Reader::list(const Val& v, const std::string& what) const {
   return items;
 }
 
+std::vector<Val> Reader::entries(const Val& v, const std::string& what) const {
+  if (v.node.IsMap()) fail(v, "expected " + what + " (start each entry with '- '), found a map");
+  return list(v, what);
+}
+
 std::vector<Val> Reader::list3(const Val& v, const char* what) const {
   auto items = list(v, std::string("a list of 3 ") + what + " [x, y, z]");
   if (items.size() != 3)

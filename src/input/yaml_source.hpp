@@ -86,6 +86,9 @@ class Reader {
   std::string string(const Val& v, const char* what = "a name") const;
   Expression expression(const Val& v) const;
   std::vector<Val> list(const Val& v, const std::string& what = "a list [a, b, ...]") const;
+  /// A list of entries (maps, each started with '- '): as list(), and a map given where the
+  /// list was expected (the '- ' forgotten) is named as such.
+  std::vector<Val> entries(const Val& v, const std::string& what) const;
   std::vector<Val> list3(const Val& v, const char* what) const;
   std::array<Expression, 3> expression3(const Val& v) const;
   Vec3 vec3(const Val& v) const;

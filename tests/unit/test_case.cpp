@@ -914,6 +914,23 @@ TEST_F(CaseTest, SolverChoices) {
             SolverSpec::Acceleration::none);
 }
 
+// A map where a list of entries belongs (the '- ' forgotten) is named as such, in every list of
+// entries of the case (Reader::entries).
+TEST_F(CaseTest, AMapWhereAListOfEntriesBelongs) {
+  const std::string hint = "(start each entry with '- '), found a map";
+  expect_error("mesh: {file: part.msh}\nmaterials:\n  name: steel\n  E: 2e11\n  nu: 0.3\n",
+               {"'materials'", "a list of materials " + hint});
+  expect_error("mesh: {file: part.msh}\nmaterials:\n  - {E: 2e11, nu: 0.3}\nboundary:\n"
+               "  region: bottom\n  displacement: {x: 0}\n",
+               {"'boundary'", "a list of conditions " + hint});
+  expect_error(base + "contact:\n  name: floor\n  nodes: bottom\n",
+               {"'contact'", "a list of contacts " + hint});
+  expect_error(base + "output:\n  probes:\n    name: A\n    point: [0, 0, 0]\n",
+               {"'output.probes'", "a list of probes " + hint});
+  expect_error(phead + "      curve: {kind: plastic, table: {strain: [0], stress: [1e8]}}\n",
+               {"'materials[0].plasticity.curve.table'", hint});
+}
+
 TEST_F(CaseTest, Output) {
   expect_error(base +
                    "output:\n  probes:\n    - {name: A, point: [0, 0, 0]}\n    - {name: A, point: "
