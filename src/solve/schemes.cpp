@@ -212,13 +212,38 @@ class VariableStiffness final : public Scheme {
   bool strain_form_;
 };
 
+/// The schemes with a matrix fixed within the step (2-5): the elastic one, or the start-of-step
+/// tangent (the `-stiffness` variants); Anderson mixing applies to all four.
+class FixedMatrixScheme : public Scheme {
+ public:
+  FixedMatrixScheme(SchemeKind kind, bool stiffness) : kind_(kind), stiffness_(stiffness) {}
+  SchemeKind kind() const override { return kind_; }
+  MatrixPolicy matrix_policy() const override {
+    return stiffness_ ? MatrixPolicy::per_step : MatrixPolicy::elastic;
+  }
+  bool allows_acceleration() const override { return true; }
+
+ protected:
+  bool stiffness() const { return stiffness_; }
+  double initial_tan_beta(double tan0, double three_g) const override {
+    return stiffness_ ? tan0 : three_g;
+  }
+
+ private:
+  SchemeKind kind_;
+  bool stiffness_;
+};
+
 /// Schemes 2 and 3, (2.35)-(2.37) and (2.38)-(2.40): initial strains on the curve's strain
 /// form, relaxed by ω, with the elastic matrix (2) or the start-of-step tangent (3).
-class InitialStrainLaw : public Scheme {
+class InitialStrain final : public FixedMatrixScheme {
  public:
-  explicit InitialStrainLaw(double omega) : omega_(omega) {}
+  InitialStrain(bool stiffness, double omega)
+      : FixedMatrixScheme(stiffness ? SchemeKind::initial_strain_stiffness
+                                    : SchemeKind::initial_strain,
+                          stiffness),
+        omega_(omega) {}
   bool uses_strain_form() const override { return true; }
-  bool allows_acceleration() const override { return true; }
   bool iterates_initial_strain() const override { return true; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
@@ -256,39 +281,18 @@ class InitialStrainLaw : public Scheme {
     return u;
   }
 
- protected:
-  virtual bool stiffness() const = 0;
-
  private:
   double omega_;
 };
 
-class InitialStrain final : public InitialStrainLaw {
- public:
-  using InitialStrainLaw::InitialStrainLaw;
-  SchemeKind kind() const override { return SchemeKind::initial_strain; }
-  MatrixPolicy matrix_policy() const override { return MatrixPolicy::elastic; }
-
- protected:
-  bool stiffness() const override { return false; }
-};
-
-class InitialStrainStiffness final : public InitialStrainLaw {
- public:
-  using InitialStrainLaw::InitialStrainLaw;
-  SchemeKind kind() const override { return SchemeKind::initial_strain_stiffness; }
-  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_step; }
-
- protected:
-  bool stiffness() const override { return true; }
-  double initial_tan_beta(double tan0, double) const override { return tan0; }
-};
-
 /// Schemes 4 and 5, (2.41)-(2.43) and (2.44)-(2.46): initial stresses on the curve's stress
 /// form, with the elastic matrix (4) or the start-of-step tangent (5).
-class InitialStressLaw : public Scheme {
+class InitialStress final : public FixedMatrixScheme {
  public:
-  bool allows_acceleration() const override { return true; }
+  explicit InitialStress(bool stiffness)
+      : FixedMatrixScheme(stiffness ? SchemeKind::initial_stress_stiffness
+                                    : SchemeKind::initial_stress,
+                          stiffness) {}
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
@@ -312,28 +316,6 @@ class InitialStressLaw : public Scheme {
     finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
     return u;
   }
-
- protected:
-  virtual bool stiffness() const = 0;
-};
-
-class InitialStress final : public InitialStressLaw {
- public:
-  SchemeKind kind() const override { return SchemeKind::initial_stress; }
-  MatrixPolicy matrix_policy() const override { return MatrixPolicy::elastic; }
-
- protected:
-  bool stiffness() const override { return false; }
-};
-
-class InitialStressStiffness final : public InitialStressLaw {
- public:
-  SchemeKind kind() const override { return SchemeKind::initial_stress_stiffness; }
-  MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_step; }
-
- protected:
-  bool stiffness() const override { return true; }
-  double initial_tan_beta(double tan0, double) const override { return tan0; }
 };
 
 }  // namespace
@@ -345,13 +327,11 @@ std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omeg
     case SchemeKind::variable_stiffness:
       return std::make_unique<VariableStiffness>(form == CurveForm::strain);
     case SchemeKind::initial_strain:
-      return std::make_unique<InitialStrain>(omega);
     case SchemeKind::initial_strain_stiffness:
-      return std::make_unique<InitialStrainStiffness>(omega);
+      return std::make_unique<InitialStrain>(kind == SchemeKind::initial_strain_stiffness, omega);
     case SchemeKind::initial_stress:
-      return std::make_unique<InitialStress>();
     case SchemeKind::initial_stress_stiffness:
-      return std::make_unique<InitialStressStiffness>();
+      return std::make_unique<InitialStress>(kind == SchemeKind::initial_stress_stiffness);
   }
   throw std::logic_error("unknown scheme");
 }
