@@ -144,9 +144,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
     if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
     if (converged(out)) {
       accept(c, trial, scale, out);
-      const double dt = trial.time - c.time;
-      trial.force_integral = c.force_integral + f_step * dt;
-      trial.force_duration = c.force_duration + dt;
+      trial.force_integral = c.force_integral + f_step * (trial.time - c.time);
       return true;
     }
     if (out.iterations >= spec.max_iterations) return false;
@@ -169,7 +167,7 @@ double Equilibrium::step_force(const State& c, const State& trial, const Evaluat
 /// carried, which cannot vanish once a load was applied: the round-off of the unloaded state
 /// converges at once, where against its own scale it read as a relative residual of order 1.
 double Equilibrium::history_force(const State& c) const {
-  return c.force_duration > 0 ? c.force_integral / c.force_duration : 0.0;
+  return c.time > 0 ? c.force_integral / c.time : 0.0;  // the analysis starts at t = 0
 }
 
 /// The step's loads, temperatures and prescribed displacements at t1, the points' and the
@@ -374,21 +372,26 @@ void Equilibrium::mix(State& trial) {
   const auto& dofs = m_.dofs();
   const bool strains = scheme_->iterates_initial_strain();
   const std::size_t n_u = dofs.n_free;
-  if (strains) points_.initial_strains(lambda0_out_, &mix_weights_);
+  if (strains) points_.initial_strains(lambda0_out_);
   const std::size_t n = n_u + (strains ? lambda0_out_.size() : 0);
+  if (mix_weights_.size() != n) {  // the rows' weights do not change during the analysis
+    mix_weights_.assign(n, strains ? 0.0 : 1.0);
+    if (strains) {
+      std::vector<double> volume;
+      points_.plastic_point_volumes(volume);
+      std::copy(volume.begin(), volume.end(), mix_weights_.begin() + n_u);
+    }
+  }
   mix_x_.resize(n);
   mix_f_.resize(n);
   for (int i = 0; i < dofs.n_dofs(); ++i)
     if (int k = dofs.eq[i]; k >= 0) mix_x_[k] = trial.u[i];
   std::copy(delta_.begin(), delta_.end(), mix_f_.begin());
   if (strains) {
-    mix_weights_.insert(mix_weights_.begin(), n_u, 0.0);
     for (std::size_t j = 0; j < lambda0_out_.size(); ++j) {
       mix_x_[n_u + j] = lambda0_in_[j];
       mix_f_[n_u + j] = lambda0_out_[j] - lambda0_in_[j];
     }
-  } else {
-    mix_weights_.assign(n, 1.0);
   }
   // The displacements are whole on every rank; the points are each rank's own.
   std::function<void(std::span<double>)> reduce;

@@ -95,6 +95,13 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
   trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
   std::atomic<bool> changed{false};
   std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1};
+  // The point's matrix for the next solve; a change is what makes the step loop assemble again.
+  auto set_tangent = [&](int p, const Tangent& t) {
+    const Tangent& old = tangent_[p];
+    if (old.dev_scale == t.dev_scale && old.coef == t.coef && old.v == t.v) return;
+    tangent_[p] = t;
+    changed.store(true, std::memory_order_relaxed);
+  };
   m_.assembler().vector(
       [&](int e, CellBuffers& b) {
         const auto nodes = mesh.cells.nodes(e);
@@ -123,10 +130,7 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
               trial.eps_ep_max[p] = c.eps_ep_max[p];
               trial.flowing[p] = 0;
               defect_sigma_[p] = defect_eps_[p] = 0;
-              if (const Tangent d{}; tangent_[p].dev_scale != 0 || tangent_[p].coef != 0) {
-                tangent_[p] = d;
-                changed.store(true, std::memory_order_relaxed);
-              }
+              set_tangent(p, Tangent{});  // the elastic matrix
             }
           } else {
             const Voigt d_mech = d_eps - thermal_strain_increment(
@@ -153,12 +157,7 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
             trial.flowing[p] = u.plastic;
             defect_sigma_[p] = u.defect_sigma;
             defect_eps_[p] = u.defect_eps;
-            const Tangent& old = tangent_[p];
-            if (old.dev_scale != u.tangent.dev_scale || old.coef != u.tangent.coef ||
-                old.v != u.tangent.v) {
-              tangent_[p] = u.tangent;
-              changed.store(true, std::memory_order_relaxed);
-            }
+            set_tangent(p, u.tangent);
           }
           kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
         }
@@ -174,25 +173,27 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
   return r;
 }
 
-void PointPass::initial_strains(std::vector<double>& lambda0, std::vector<double>* volume) const {
-  lambda0.clear();
-  if (volume) volume->clear();
+template <class F>
+void PointPass::for_plastic_points(F&& f) const {
   for (int e = 0; e < m_.mesh().cells.size(); ++e) {
     if (!m_.material_of(e).plastic() || !mine(e)) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
-      lambda0.push_back(point_iter_[p].lambda0);
-      if (volume) volume->push_back(point_volume_[p]);
-    }
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) f(p);
   }
+}
+
+void PointPass::initial_strains(std::vector<double>& lambda0) const {
+  lambda0.clear();
+  for_plastic_points([&](int p) { lambda0.push_back(point_iter_[p].lambda0); });
+}
+
+void PointPass::plastic_point_volumes(std::vector<double>& volume) const {
+  volume.clear();
+  for_plastic_points([&](int p) { volume.push_back(point_volume_[p]); });
 }
 
 void PointPass::set_initial_strains(std::span<const double> lambda0) {
   std::size_t i = 0;
-  for (int e = 0; e < m_.mesh().cells.size(); ++e) {
-    if (!m_.material_of(e).plastic() || !mine(e)) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
-      point_iter_[p].lambda0 = lambda0[i++];
-  }
+  for_plastic_points([&](int p) { point_iter_[p].lambda0 = lambda0[i++]; });
 }
 
 /// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the
@@ -200,18 +201,14 @@ void PointPass::set_initial_strains(std::span<const double> lambda0) {
 void PointPass::measures(const State& trial, PointPassResult& r) const {
   double ns = 0, ds = 0, ne = 0, de = 0;
   int n_plastic = 0;
-  const auto& mesh = m_.mesh();
-  for (int e = 0; e < mesh.cells.size(); ++e) {
-    if (!m_.material_of(e).plastic() || !mine(e)) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
-      const double w = point_volume_[p], q = von_mises(trial.stress[p]);
-      ns += w * defect_sigma_[p] * defect_sigma_[p];
-      ds += w * q * q;
-      ne += w * defect_eps_[p] * defect_eps_[p];
-      de += w * trial.eps_ep[p] * trial.eps_ep[p];
-      n_plastic += trial.flowing[p];
-    }
-  }
+  for_plastic_points([&](int p) {
+    const double w = point_volume_[p], q = von_mises(trial.stress[p]);
+    ns += w * defect_sigma_[p] * defect_sigma_[p];
+    ds += w * q * q;
+    ne += w * defect_eps_[p] * defect_eps_[p];
+    de += w * trial.eps_ep[p] * trial.eps_ep[p];
+    n_plastic += trial.flowing[p];
+  });
   double sums[5] = {ns, ds, ne, de, static_cast<double>(n_plastic)};
   par::sum_in_place(std::span<double>(sums));
   ns = sums[0], ds = sums[1], ne = sums[2], de = sums[3];

@@ -43,8 +43,10 @@ class PointPass {
   /// The scheme's matrix at each point, from the last update (plastic materials only).
   const std::vector<Tangent>& tangents() const { return tangent_; }
   /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials
-  /// (PointIteration::lambda0, in the order of the cells), and each point's volume.
-  void initial_strains(std::vector<double>& lambda0, std::vector<double>* volume = nullptr) const;
+  /// (PointIteration::lambda0, in the order of the cells).
+  void initial_strains(std::vector<double>& lambda0) const;
+  /// The volumes of the same points, in the same order.
+  void plastic_point_volumes(std::vector<double>& volume) const;
   /// Replaces λ0 at those points (Anderson's mixed iterate).
   void set_initial_strains(std::span<const double> lambda0);
   /// Warnings about the curves after a converged step: temperatures outside their tables,
@@ -55,6 +57,9 @@ class PointPass {
   /// Δ^σ and Δ^ε of the report into r, made global.
   void measures(const State& trial, PointPassResult& r) const;
   bool mine(int e) const { return !only_ || (*only_)[e]; }
+  /// f(p) for every point of this rank's cells of plastic materials, in the order of the cells.
+  template <class F>
+  void for_plastic_points(F&& f) const;
 
   const Model& m_;
   const std::vector<char>* only_;

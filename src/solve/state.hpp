@@ -30,10 +30,9 @@ struct State {
   // Contact (report section 3):
   std::vector<double> f_contact;  ///< forces of the rigid supports on the nodes, 3 per node
   std::vector<std::vector<ContactNode>> contact;  ///< per contact, per contact point
-  // The force history (Equilibrium::history_force): ∫ f dt over the converged steps, with f the
-  // force scale of each step, and the time those steps cover.
+  /// The force history (Equilibrium::history_force): ∫ f dt over the converged steps from
+  /// t = 0, with f the force scale of each step.
   double force_integral = 0;
-  double force_duration = 0;
 };
 
 struct StepReport {
