@@ -130,13 +130,11 @@ void check_strain_form(const Case& c) {
           m.plasticity->curve.where,
           fmt::format("scheme '{}'{} iterates on the strain form ε̃ = F(σ̃) of the curve, and "
                       "the curve of material '{}' has none above its yield stress (it is "
-                      "flat from there on: perfect plasticity). The schemes that can run it: "
-                      "newton, initial-stress, initial-stress-stiffness, and "
-                      "variable-stiffness with curve_form: stress",
+                      "flat from there on: perfect plasticity). The schemes that can run it: {}",
                       scheme_name(c.solver.scheme),
                       c.solver.scheme == SchemeKind::variable_stiffness ? " (curve_form: strain)"
                                                                         : "",
-                      m.name));
+                      m.name, schemes_without_strain_form));
 }
 
 /// The sections of the top-level map, in the order later ones depend on earlier ones.

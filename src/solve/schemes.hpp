@@ -116,6 +116,12 @@ class Scheme {
   }
 };
 
+/// The schemes that do not use the curve's strain form, for messages about curves that have none
+/// (flat from their yield point, or beyond a table's end).
+inline constexpr const char* schemes_without_strain_form =
+    "newton, initial-stress, initial-stress-stiffness, and variable-stiffness with curve_form: "
+    "stress";
+
 /// The scheme of the case: `form` for variable-stiffness, `omega` the relaxation of the
 /// initial-strain schemes.
 std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omega);

@@ -374,9 +374,9 @@ TEST(VerifyPlastic, ErrorCorrectionKeepsTheDefectFromAccumulating) {
 // solver.acceleration: anderson. The fixed-matrix schemes initial-stress and
 // initial-stress-stiffness on the cylinder (0.9 p_L in 8 steps), plain and accelerated: the
 // accelerated iteration has the same fixed point, so the displacements agree to what the
-// stopping tolerance (1e-8) leaves (measured 2.7e-8 and 1.6e-9 relative; bound 1e-5), and it
-// needs far fewer iterations with the same factorizations (bound: under half; measured 284 -> 62
-// and 98 -> 43).
+// stopping tolerance (1e-8) leaves (measured 2.8e-8 and 1.7e-9 relative; bound 1e-5), and it
+// needs far fewer iterations with the same factorizations (bound: under half; measured 284 -> 60
+// and 98 -> 45).
 TEST(VerifyPlastic, AndersonAccelerationKeepsTheAnswerAndCutsIterations) {
   const Hill h;
   TempDir dir("hill-anderson");
