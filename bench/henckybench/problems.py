@@ -314,7 +314,8 @@ def material_yaml(variant: dict) -> str:
 
 def plastic_case(msh: Path, scheme: str, variant: dict, args) -> str:
     """hencky's case file of the plastic cylinder: `scheme` ("+anderson": with Anderson
-    acceleration) on the material `variant`, the controls of run_plastic_bench.py's options
+    acceleration, "+auto": hencky's default; a plain name is the report's plain iteration,
+    `acceleration: none`) on the material `variant`, the controls of run_plastic_bench.py's options
     `args` (steps, tolerance, max_iterations, cutback, linear, relaxation(_stiffness), p_end)."""
     scheme, _, accel = scheme.partition("+")
     solver = [f"scheme: {scheme}", f"steps: {args.steps}", "end: 1.0",
@@ -324,8 +325,7 @@ def plastic_case(msh: Path, scheme: str, variant: dict, args) -> str:
         solver.append(f"relaxation: {args.relaxation!r}")
     elif scheme == "initial-strain-stiffness":
         solver.append(f"relaxation: {args.relaxation_stiffness!r}")
-    if accel:
-        solver.append(f"acceleration: {accel}")
+    solver.append(f"acceleration: {accel or 'none'}")
     return f"""title: plastic bench {scheme}{'+' + accel if accel else ''} {variant['name']} {msh.stem}
 mesh: {{file: {msh.name}}}
 materials:
