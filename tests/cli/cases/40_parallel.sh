@@ -89,6 +89,21 @@ ex_check "parallel ball-indentation: the contact force on 3 ranks = serial to 1e
   "$d/mumps3/history.csv" \
   'close(at(1.0)["contact.ball.resultant.z"], [float(r["contact.ball.resultant.z"]) for r in csv.DictReader(open(sys.argv[1].replace("mumps3", "direct"))) if float(r["time"]) == 1.0][0], 1e-8)'
 
+# --- Anderson mixing on ranks (acceleration: auto): the least squares of initial-stress works on
+# the displacements, whole on every rank; that of initial-strain on the points' initial strains,
+# each rank's own, summed over the ranks. Both must take the ranks' run to the serial one.
+for scheme in initial-stress initial-strain; do
+  d="$work/parallel-anderson-$scheme"
+  rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/heated-bar"/* "$d/"
+  sed -i -E "s/^  scheme: newton$/  scheme: $scheme/" "$d/case.yaml"
+  expect "parallel anderson, $scheme: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
+  mpi_expect "parallel anderson, $scheme: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
+  same "parallel anderson, $scheme: 2 ranks = serial to 1e-8" "$d/r1" "$d/r2" 1e-8 \
+    displacement,stress,equivalent_plastic_strain
+  ex_check "parallel anderson, $scheme: the same iterations on 2 ranks" "$d/r2/summary.json" \
+    's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"]'
+done
+
 # --- Errors under mpirun.
 d="$work/examples/lame-cylinder"
 sed -E 's/^  steps: 2/  stepz: 2/' "$d/case.yaml" >"$d/broken.yaml"
