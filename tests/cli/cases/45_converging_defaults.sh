@@ -121,3 +121,16 @@ ex_check "multilinear-cube stretched 5 %: summary.json says why, the converged s
   's["status"] == "not-converged" and "The schemes that can run it: newton" in s["failure"]'
 ex_check "multilinear-cube stretched 5 %: history.csv keeps the converged step" \
   "$d/case.out/history.csv" 'len(h) == 1 and close(h[0]["time"], 0.00625, 1e-12)'
+
+# Without plasticity every scheme is the same linear solve per step, and acceleration: auto
+# mixes nothing: the elastic ball indentation (contact) takes the same iterations with
+# initial-stress as with newton (with mixing it took 56 instead of 42 on the full mesh).
+ex_copy ball-indentation
+d="$work/examples/ball-indentation"
+ex_set "$d/block.geo" '^hc = a / [0-9]+;' 'hc = a / 2;'
+sed -E 's/^solver:.*/&\n  scheme: initial-stress/' "$d/case.yaml" >"$d/case-is.yaml"
+expect "ball-indentation (elastic), newton" 0 "" -- run "$d/case.yaml" -o "$d/newton" --quiet
+expect "ball-indentation (elastic), initial-stress" 0 "" -- run "$d/case-is.yaml" -o "$d/is" --quiet
+ex_check "ball-indentation (elastic): initial-stress takes newton's iterations, nothing mixed" \
+  "$d/is/summary.json" \
+  's["iterations"] == json.load(open(sys.argv[1].replace("/is/", "/newton/")))["iterations"]'
