@@ -73,6 +73,11 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // the elastic ball-indentation example).
   mix_ = plastic_ && (a == A::anderson ||
                       (a == A::automatic && scheme_->allows_acceleration() && !given_omega));
+  // For the same reason no elastic start with a given ω: the plain iteration's first update of
+  // λ0 comes from the overshoot of u(t) (measured: a uniaxial load-unload-reload at ω = 0.01,
+  // initial-strain-stiffness, took 677 iterations and failed on reloading with the elastic
+  // start, 0.99 per iteration from the elastic iterate; 37 iterations without).
+  elastic_start_ = !given_omega;
   if (plastic_) model_size_ = model_size(m.mesh());
   if (m.has_temperature())
     for (const auto& mat : m.materials())
@@ -120,14 +125,17 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   // above a table's end for the strain form) through their iterations. The first solve of a
   // step that is not extrapolated is the elastic one, as Abaqus/Standard's first iteration of
   // an increment spreads a prescribed displacement with the stiffness of the converged state;
-  // the point law decides from the first iterate on (the schemes' memory starts there).
-  // Not for the initial-strain schemes: their first update of λ0 from the overshoot is a
-  // better start than none (measured: a uniaxial load-unload-reload with ω = 0.01 no longer
-  // converged in 200 iterations, and the multilinear cube needed twice the cut-backs).
-  if (!extrapolated && !scheme_->iterates_initial_strain() && ev.points.plastic_points > 0)
+  // the point law decides from the first iterate on: the schemes' memory starts there, not
+  // from the overshoot (with the initial-strain schemes' λ0 of that overshoot kept, the layer's
+  // points cycled between λ0 = 0 and a λ0 far too large: a cube stretched just past its yield
+  // failed after four cut-backs; it takes 12 iterations now). An overshoot beyond the strain
+  // form's range is no failure of the step either: the elastic start replaces it.
+  if (!extrapolated && (ev.points.plastic_points > 0 || ev.points.undefined_cell >= 0) &&
+      elastic_start_)
     ev = evaluate(c, trial, false, true);
   double previous_residual = INFINITY;
   anderson_.reset();
+  mixed_last_ = false;
   for (out.iterations = 0;; ++out.iterations) {
     if (out.iterations > 0) ev = evaluate(c, trial, true);
     // With contact, the force a surface's travel puts on the first iterate (κ times the
@@ -150,11 +158,15 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
     report(out);
     if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
     if (converged(out)) {
+      require_strain_form(ev);
       accept(c, trial, scale, out);
       trial.force_integral = c.force_integral + f_step * (trial.time - c.time);
       return true;
     }
-    if (out.iterations >= spec.max_iterations) return false;
+    if (out.iterations >= spec.max_iterations) {
+      require_strain_form(ev);  // the reason, where the iterate left the strain form's range
+      return false;
+    }
     advance(trial, ev, out.iterations, out.residual, previous_residual);
   }
 }
@@ -203,13 +215,9 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
 
 /// The iterate trial.u: points and internal forces, then (after a solve) the contact's steps
 /// 3-4, then the residual.
-Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact,
-                                              bool elastic) {
-  Evaluation ev;
-  auto t0 = Clock::now();
-  ev.points = points_.update(c, trial, elastic);
-  timings_.material += seconds_since(t0);
-  negative_secant_cell_ = ev.points.negative_secant_cell;
+/// An iterate whose stress left the strain form's range at some point has no answer of the
+/// scheme (a step's start is spared: the elastic start replaces it).
+void Equilibrium::require_strain_form(const Evaluation& ev) const {
   if (const int e = ev.points.undefined_cell; e >= 0)
     throw SolveError(fmt::format(
         "scheme '{}' needs the strain form ε̃ = F(σ̃) of the curve of material '{}' above the "
@@ -217,6 +225,15 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
         "plasticity, a table's flat end). The schemes that can run it: {}",
         scheme_->name(), m_.material_of(e).spec->name, m_.mesh().cells.tag[e],
         schemes_without_strain_form));
+}
+
+Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact,
+                                              bool elastic) {
+  Evaluation ev;
+  auto t0 = Clock::now();
+  ev.points = points_.update(c, trial, elastic);
+  timings_.material += seconds_since(t0);
+  negative_secant_cell_ = ev.points.negative_secant_cell;
   if (contact_.active() && update_contact) {
     t0 = Clock::now();
     contact_.update(c, trial);
@@ -259,6 +276,7 @@ Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
     if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
   points_.begin_step(c, trial);  // the extrapolated start is the step's iteration 0
   Evaluation ev = evaluate(c, trial, false);
+  require_strain_form(ev);
   extrapolated = true;
   ev.points.tangent_changed = ev.points.tangent_changed || at_start.points.tangent_changed;
   log_.detail(
@@ -329,6 +347,21 @@ void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, dou
       !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
       (ev.points.tangent_changed && (policy == MatrixPolicy::per_iteration ||
                                      (policy == MatrixPolicy::per_step && iteration <= 1)));
+  if (mix_ && mixed_last_ && residual > 2 * previous_residual) {
+    // Safeguarded mixing: a mixed iterate that doubled the residual is dropped for the plain
+    // one it replaced, and the history starts again there (as Peng et al., "Anderson
+    // acceleration for geometry optimization and physics simulation", ACM TOG 37(4), 2018,
+    // fall back to the plain step when the mixed one does not decrease their energy). The next
+    // iteration evaluates it; nothing is solved in this one. Without it, a mixed λ0 that put
+    // every point of a multilinear cube below its yield stress made the plain update return
+    // to the step's start: a cycle of three iterations until the step failed.
+    trial.u = plain_u_;
+    trial.contact = plain_contact_;
+    points_.restore_memory();
+    anderson_.reset();
+    mixed_last_ = false;
+    return;
+  }
   const bool refactor = new_elements || contact_.matrix_stale(trial);
   if (refactor) assemble_and_factorize(trial, new_elements);
   // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
@@ -359,6 +392,15 @@ void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, dou
     // The initial-strain schemes' displacement follows their λ0 only from the first solve
     // with the matrix on: the start of a step (u(t), the new load not yet applied) and the
     // iterate before a new matrix do not. Their plain update is the history's first entry.
+    // After a restart the history holds nothing: the step is the plain one.
+    mixed_last_ = !restart;
+    if (mixed_last_) {
+      plain_u_ = trial.u;
+      for (int i = 0; i < dofs.n_dofs(); ++i)
+        if (int k = dofs.eq[i]; k >= 0) plain_u_[i] += delta_[k];
+      plain_contact_ = trial.contact;
+      points_.save_memory();
+    }
     if (scheme_->iterates_initial_strain() && restart)
       points_.initial_strains(lambda0_in_);
     else

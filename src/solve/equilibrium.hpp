@@ -59,6 +59,7 @@ class Equilibrium {
   double step_force(const State& c, const State& trial, const Evaluation& ev) const;
   double history_force(const State& c) const;
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
+  void require_strain_form(const Evaluation& ev) const;
   Evaluation predict(const State& c, State& trial, const Evaluation& at_start, double scale,
                      bool& extrapolated);
   void report(const StepOutcome& out) const;
@@ -95,10 +96,16 @@ class Equilibrium {
   std::vector<double> last_du_;
   double last_dt_ = 0;
   bool mix_ = false;       ///< solver.acceleration resolved: Anderson mixing of the iterates
+  bool elastic_start_ = true;  ///< the first solve of a step that yields points is elastic
   Anderson anderson_{5};
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
   // schemes' λ0 the current iterate was evaluated with and the points' plain update of it
   std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_;
+  // The plain iterate the last mixed one replaced (its displacements, contact and points'
+  // memory), taken instead when the mixed one doubled the residual.
+  bool mixed_last_ = false;
+  std::vector<double> plain_u_;
+  std::vector<std::vector<ContactNode>> plain_contact_;
 };
 
 }  // namespace hencky

@@ -130,6 +130,7 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
               trial.eps_ep_max[p] = c.eps_ep_max[p];
               trial.flowing[p] = 0;
               defect_sigma_[p] = defect_eps_[p] = 0;
+              point_iter_[p] = scheme_.start_iteration(point_step_[p]);
               set_tangent(p, Tangent{});  // the elastic matrix
             }
           } else {
@@ -141,8 +142,6 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);
-              trial.stress[p] = c.stress[p];
-              continue;
             }
             point_iter_[p] = u.next;
             if (u.negative_secant) {
@@ -169,7 +168,7 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
   r.negative_secant_cell = par::max(negative_secant_cell.load());
   r.tangent_changed = par::any(changed.load());
   if (only_) par::sum_in_place(std::span<double>(trial.f_int));
-  if (plastic_ && r.undefined_cell < 0) measures(trial, r);
+  if (plastic_) measures(trial, r);
   return r;
 }
 

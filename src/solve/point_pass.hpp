@@ -49,6 +49,10 @@ class PointPass {
   void plastic_point_volumes(std::vector<double>& volume) const;
   /// Replaces λ0 at those points (Anderson's mixed iterate).
   void set_initial_strains(std::span<const double> lambda0);
+  /// Keeps, and puts back, the scheme's memory at every point (Anderson's fallback to the plain
+  /// iterate).
+  void save_memory() { saved_iter_ = point_iter_; }
+  void restore_memory() { point_iter_ = saved_iter_; }
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;
@@ -66,7 +70,7 @@ class PointPass {
   bool plastic_;
   const Scheme& scheme_;
   std::vector<PointStep> point_step_;
-  std::vector<PointIteration> point_iter_;
+  std::vector<PointIteration> point_iter_, saved_iter_;
   std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update
   std::vector<double> defect_sigma_, defect_eps_, point_volume_;
 };

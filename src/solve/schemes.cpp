@@ -30,11 +30,16 @@ PointStep Scheme::begin_point_step(const ElasticConstants& k1, const Hardening& 
       ps.tan0 = ps.curve.phi(eps_p0 + q0 / three_g, true).slope;
     }
   }
-  it = PointIteration{};
-  it.tan_beta = initial_tan_beta(ps.tan0, three_g);
+  it = start_iteration(ps);
+  return ps;
+}
+
+PointIteration Scheme::start_iteration(const PointStep& ps) const {
+  PointIteration it;
+  it.tan_beta = initial_tan_beta(ps.tan0, ps.curve.three_g);
   it.plastic_prev = false;
   it.tan_start = ps.tan0;
-  return ps;
+  return it;
 }
 
 namespace {
@@ -175,18 +180,14 @@ class VariableStiffness final : public Scheme {
     PointUpdate u;
     double lambda = 0, new_tan = it.tan_beta;
     const double ds = it.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
-    if (!strain_form_) {                   // (2.33)
-      const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
-      u.defect_sigma = ph.value - (a.q0 + ds);
-      u.defect_eps = a.xt - it.x_prev;
-      new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
-      lambda = a.xt - (ph.value - a.q0) / three_g;
-    } else {  // (2.34)
-      const auto fk = ps.curve.f(a.q0 + ds, right);
-      if (!std::isfinite(fk.value)) {
-        u.undefined = true;
-        return u;
-      }
+    bool stress_form = !strain_form_ || it.stress_form;
+    double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
+    const auto fk = strain_form_ && !it.stress_form ? ps.curve.f(a.q0 + ds, right)
+                                                    : Hardening::Point{};
+    // An iterate above the largest stress the curve reaches (the flat end of a table) has no
+    // strain on the curve: the point takes the stress form as well (Φ is flat there).
+    if (strain_form_ && !it.stress_form && !std::isfinite(fk.value)) stress_form = true;
+    if (!stress_form) {  // (2.34)
       u.defect_eps = fk.value - (a.eps0 + it.x_prev);
       u.defect_sigma = ds - it.ds_prev;
       const double den = fk.value - a.eps0;
@@ -195,6 +196,28 @@ class VariableStiffness final : public Scheme {
                     ? ds / den
                     : 1 / fk.slope;
       lambda = (three_g - new_tan) / three_g * a.xt;
+      // A point whose strain its surroundings hold (a restrained bar heated, a layer under a
+      // prescribed displacement) multiplies the error of its secant by 1 − tan β*/tan β (the
+      // secant over the curve's slope) per iteration: below −1 once the curve hardens less than
+      // half its secant, and at first yield the secant then alternates between the elastic 3G
+      // and a slope far below the answer (a heated bar: 3G, 2.2e9, 3G, ... and a step cut back
+      // four times). The report's (2.34) does not say what to do then. Both forms have the
+      // curve as their fixed point, and for a held strain the stress form's secant (2.33) is
+      // the answer at once: a point whose secant changes direction takes the stress form for
+      // the rest of the step (measured, the issue-16 cases with curve_form: strain: 6 of 12
+      // failed after cut-backs, 1 does now).
+      change = new_tan - it.tan_beta;
+      stress_form = change * it.secant_change < 0 &&
+                    std::abs(it.secant_change) > 1e-6 * std::abs(it.tan_beta);
+    }
+    if (stress_form) {  // (2.33)
+      const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
+      if (!strain_form_ || it.stress_form) {
+        u.defect_sigma = ph.value - (a.q0 + ds);
+        u.defect_eps = a.xt - it.x_prev;
+      }
+      new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
+      lambda = a.xt - (ph.value - a.q0) / three_g;
     }
     // A stress at t above the curve along this step's direction Z (left by an earlier step
     // whose stress turned away from its Z, as under an indenter) makes the secant negative
@@ -202,6 +225,8 @@ class VariableStiffness final : public Scheme {
     u.negative_secant = new_tan < 0;
     u.tangent = d_tilde(k1, a.z, new_tan);
     finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    u.next.stress_form = stress_form;
+    u.next.secant_change = change;
     return u;
   }
 
@@ -253,10 +278,18 @@ class InitialStrain final : public FixedMatrixScheme {
     PointIteration memory = it;
     const double tb = stiffness() ? it.tan_start : three_g;
     const double ds = tb * (a.xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
-    const auto fk = ps.curve.f(a.q0 + ds, ps.flowing);
+    auto fk = ps.curve.f(a.q0 + ds, ps.flowing);
     if (!std::isfinite(fk.value)) {
+      // The iterate's stress is above the largest the curve reaches (a table's flat end),
+      // where no strain belongs to it: the defect is taken at that largest stress, with the
+      // slope of the curve below it, which raises λ0 and brings the stress down (measured: a
+      // multilinear cube whose elastic iterates overshoot its table's end was cut back 40
+      // times when such an iterate failed the step). The point is marked: an answer there,
+      // a converged one or the last of a step that fails, has no strain form (the run stops
+      // with the message that names the schemes that can).
       u.undefined = true;
-      return u;
+      const double top = ps.curve.hardening->max_stress(ps.curve.temperature);
+      fk = ps.curve.f(top * (1 - 1e-12), false);
     }
     u.defect_eps = fk.value - (a.eps0 + a.xt);
     u.defect_sigma = ds - it.ds_prev;

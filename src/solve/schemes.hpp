@@ -60,6 +60,10 @@ struct PointIteration {
   /// unloading): the loading tangent is far softer than that response and the fixed-matrix
   /// iteration would diverge (its factor at the point is 1 − 3G/tan β*_0).
   double tan_start = 0;
+  /// variable-stiffness on the strain form: the last change of tan β*, and whether the point
+  /// has turned to the stress form in this step (its secant alternated).
+  double secant_change = 0;
+  bool stress_form = false;
   int k = 0;  ///< iterations evaluated in this step
 };
 
@@ -72,7 +76,7 @@ struct PointUpdate {
   Tangent tangent;              ///< the scheme's matrix at this point for the next solve
   bool plastic = false;         ///< plastic flow in this iterate
   double defect_sigma = 0, defect_eps = 0;  ///< numerators of Δ^σ_k, Δ^ε_k
-  bool undefined = false;        ///< the strain form F was needed above the curve's largest stress
+  bool undefined = false;  ///< the iterate needed F above the curve's largest stress (taken there)
   bool negative_secant = false;  ///< variable-stiffness: the secant slope is negative
   PointIteration next;           ///< the scheme's memory for iteration k+1
 };
@@ -99,6 +103,10 @@ class Scheme {
   PointStep begin_point_step(const ElasticConstants& k1, const Hardening& h, double T1,
                              bool elastic_unloading, const Voigt& sigma0, double eps_p0,
                              bool flowing, PointIteration& it) const;
+
+  /// The scheme's memory before the first iterate of the step (also after an elastic start:
+  /// that solve took nothing from the point law).
+  PointIteration start_iteration(const PointStep& ps) const;
 
   /// The point law: evaluates iterate k at a point, x = Δε_k − Δε^th, from the point's state
   /// at t (sigma0, ps) and the scheme's memory `it`. Returns the stress σ_k, the plastic

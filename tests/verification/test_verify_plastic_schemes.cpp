@@ -278,7 +278,7 @@ std::vector<Scheme> schemes_for(double omega_initial_strain) {
   return {
       {"newton"},
       {"variable-stiffness"},
-      {"variable-stiffness", "strain", 1.0, false, 30},
+      {"variable-stiffness", "strain"},
       {"initial-strain", "stress", omega_initial_strain},
       {"initial-strain-stiffness", "stress", omega_initial_strain},
       {"initial-stress"},

@@ -109,7 +109,9 @@ done
 
 # A curve that flattens beyond a table's end is run, and a step whose stresses reach the flat
 # part stops with a message that names the material, the element and the schemes that can run
-# it; the converged steps are kept (status 2).
+# it; the converged steps are kept (status 2). The table ends at a strain of 0.034, which the
+# face's 0.05*t reaches at t = 0.68: the run goes up to there (it used to stop in the first
+# plastic step, at t = 0.00625, when an iterate on its way passed the table's end).
 d="$work/issue16/flat-end"
 rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/multilinear-cube"/* "$d/"
 sed -i -E 's/^  scheme: newton$/  scheme: initial-strain-stiffness/; s/"1e-4\*t"/"5e-4*t"/' "$d/case.yaml"
@@ -119,8 +121,8 @@ expect "multilinear-cube stretched 5 %, initial-strain-stiffness: stops at the t
 ex_check "multilinear-cube stretched 5 %: summary.json says why, the converged step is kept" \
   "$d/case.out/summary.json" \
   's["status"] == "not-converged" and "The schemes that can run it: newton" in s["failure"]'
-ex_check "multilinear-cube stretched 5 %: history.csv keeps the converged step" \
-  "$d/case.out/history.csv" 'len(h) == 1 and close(h[0]["time"], 0.00625, 1e-12)'
+ex_check "multilinear-cube stretched 5 %: history.csv keeps the converged steps, up to the table's end" \
+  "$d/case.out/history.csv" 'len(h) >= 7 and 0.65 <= float(h[-1]["time"]) < 0.68'
 
 # Without plasticity every scheme is the same linear solve per step, and acceleration: auto
 # mixes nothing: the elastic ball indentation (contact) takes the same iterations with
