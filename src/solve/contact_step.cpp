@@ -133,8 +133,9 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       const int ii = static_cast<int>(i);
       ContactNode& s = trial.contact[b][i];
       const bool was_contact = s.contact, was_separation = s.separation;
-      update_contact_node(s, c.contact[b][i], r_t_[b][i],
-                          position(static_cast<int>(b), ii, trial.u), where);
+      const ContactBranch branch = update_contact_node(
+          s, c.contact[b][i], r_t_[b][i], position(static_cast<int>(b), ii, trial.u), where);
+      if (branch == ContactBranch::released && c.contact[b][i].contact) ++pr.released;
       if (s.contact != was_contact || s.separation != was_separation) pr.set_changed = true;
       if (s.contact != was_contact && ++flips_[b][i] > max_flips)
         throw SolveError(fmt::format(
@@ -168,6 +169,26 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
     }
   progress_ = pr;
   return pr;
+}
+
+void ContactStep::augmented_offsets(const State& s, std::vector<double>& c,
+                                    std::vector<double>* weight) const {
+  c.clear();
+  if (weight) weight->clear();
+  for (const auto& nodes : s.contact)
+    for (const ContactNode& n : nodes) {
+      c.push_back(n.contact ? n.force.dot(n.normal) + n.kappa * n.point.dot(n.normal) : 0.0);
+      if (weight) weight->push_back(n.contact ? 1 / n.kappa : 0.0);
+    }
+}
+
+void ContactStep::set_augmented_offsets(State& s, std::span<const double> c) const {
+  std::size_t i = 0;
+  for (auto& nodes : s.contact)
+    for (ContactNode& n : nodes) {
+      if (n.contact) n.force = (c[i] - n.kappa * n.point.dot(n.normal)) * n.normal;
+      ++i;
+    }
 }
 
 std::string ContactStep::diagnosis() const {

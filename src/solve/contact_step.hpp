@@ -20,6 +20,7 @@ struct ContactProgress {
   double worst_gap = 0;      ///< largest |gap| / allowed over the nodes in contact (≤ 1: done)
   double max_penetration = 0;  ///< largest penetration (−gap) of any node, in length units
   int in_contact = 0;          ///< nodes in contact, over all surfaces
+  int released = 0;            ///< nodes in contact at t that this update released
   bool converged() const { return !set_changed && worst_gap <= 1; }
 };
 
@@ -50,6 +51,13 @@ class ContactStep {
   /// when the contact set oscillates (a node changed state more than max_flips times in the
   /// step): the step is then cut back.
   ContactProgress update(const State& c, State& trial);
+  /// The augmented state of every node as one number, c = F·n + κ r*·n: the force the solve
+  /// puts on a node in contact at r is (c − κ r·n) n, linear in r for a fixed c (0 for the
+  /// nodes out of contact). `weight` (when given): 1/κ at the nodes in contact, else 0.
+  void augmented_offsets(const State& s, std::vector<double>& c,
+                         std::vector<double>* weight = nullptr) const;
+  /// Sets c at the nodes in contact (their F·n follows; r* and n stay).
+  void set_augmented_offsets(State& s, std::span<const double> c) const;
   /// The progress of the last update (or of begin(): all quiet).
   const ContactProgress& progress() const { return progress_; }
   /// Why the contact kept a step from converging ("" when it did not): for the message of a

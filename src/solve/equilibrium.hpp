@@ -62,6 +62,7 @@ class Equilibrium {
   void require_strain_form(const Evaluation& ev) const;
   Evaluation predict(const State& c, State& trial, const Evaluation& at_start, double scale,
                      bool& extrapolated);
+  Evaluation restart(const State& c, State& trial, const std::vector<double>& u_start);
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
@@ -100,10 +101,12 @@ class Equilibrium {
   Anderson anderson_{5};
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
   // schemes' λ0 the current iterate was evaluated with and the points' plain update of it
-  std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_;
+  std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_, point_weights_;
+  // with contact, the nodes' augmented state c (ContactStep::augmented_offsets) likewise
+  std::vector<double> contact_in_, contact_out_, contact_weights_;
   // The plain iterate the last mixed one replaced (its displacements, contact and points'
   // memory), taken instead when the mixed one doubled the residual.
-  bool mixed_last_ = false;
+  bool mixed_last_ = false, restart_next_ = false;
   std::vector<double> plain_u_;
   std::vector<std::vector<ContactNode>> plain_contact_;
 };

@@ -185,9 +185,10 @@ void PointPass::initial_strains(std::vector<double>& lambda0) const {
   for_plastic_points([&](int p) { lambda0.push_back(point_iter_[p].lambda0); });
 }
 
-void PointPass::plastic_point_volumes(std::vector<double>& volume) const {
-  volume.clear();
-  for_plastic_points([&](int p) { volume.push_back(point_volume_[p]); });
+void PointPass::plastic_point_weights(std::vector<double>& weight) const {
+  weight.clear();
+  for_plastic_points(
+      [&](int p) { weight.push_back(point_volume_[p] * point_step_[p].curve.three_g); });
 }
 
 void PointPass::set_initial_strains(std::span<const double> lambda0) {

@@ -45,8 +45,9 @@ class PointPass {
   /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials
   /// (PointIteration::lambda0, in the order of the cells).
   void initial_strains(std::vector<double>& lambda0) const;
-  /// The volumes of the same points, in the same order.
-  void plastic_point_volumes(std::vector<double>& volume) const;
+  /// The weights of the same points, in the same order, in Anderson's least squares: volume
+  /// times 3G, so that the weighted square of a change of λ0 is an energy.
+  void plastic_point_weights(std::vector<double>& weight) const;
   /// Replaces λ0 at those points (Anderson's mixed iterate).
   void set_initial_strains(std::span<const double> lambda0);
   /// Keeps, and puts back, the scheme's memory at every point (Anderson's fallback to the plain

@@ -4,15 +4,18 @@
 # would: only `scheme` changed, everything else on the defaults. Each run must end with status 0
 # and without a cut-back, and its answer must match the closed form.
 
-# cv_run CASE SCHEME: a copy of the case with `scheme: SCHEME`, run; sets $h (history.csv) and
-# $s (summary.json), and checks the exit status and that no step was cut back.
+# cv_run CASE SCHEME[/FORM]: a copy of the case with `scheme: SCHEME` (and `curve_form: FORM`),
+# run; sets $h (history.csv) and $s (summary.json), and checks the exit status and that no step
+# was cut back.
 cv_run() {
-  local case="$1" scheme="$2" d="$work/issue16/$1-$2"
+  local case="$1" scheme="${2%%/*}" form="" d="$work/issue16/$1-${2//\//-}"
+  [ "$2" != "$scheme" ] && form="${2#*/}"
   rm -rf "$d"
   mkdir -p "$d"
   cp "$src/tests/cli/inputs/issue16/$case"/* "$d/"
   sed -i -E "s/^  scheme: newton$/  scheme: $scheme/" "$d/case.yaml"
   grep -q "^  scheme: $scheme$" "$d/case.yaml" || bad "$case: no 'scheme: newton' line to replace"
+  [ -n "$form" ] && sed -i -E "s/^  scheme: $scheme$/  scheme: $scheme\n  curve_form: $form/" "$d/case.yaml"
   expect "$case, $scheme, defaults: converges" 0 "" -- run "$d/case.yaml" --quiet
   h="$d/case.out/history.csv"
   s="$d/case.out/summary.json"
@@ -43,13 +46,16 @@ for scheme in newton initial-stress; do
     'close(at(3)["top.displacement.z"], -0.025 * 0.01, 1e-6)'
 done
 # (the elastic first solve of a step spreads the prescribed displacement over the cube: before
-# it newton was cut back 6 times here and variable-stiffness took 60 iterations, now 10 and 16)
-for scheme in newton initial-stress initial-stress-stiffness variable-stiffness; do
+# it newton was cut back 6 times here and variable-stiffness took 60 iterations, now 8 and 13;
+# with the points' memory of the overshoot reset by it, initial-strain converges in 12 where
+# it failed after 4 cut-backs, and the strain form of variable-stiffness needs no cut-back)
+for scheme in newton initial-stress initial-stress-stiffness variable-stiffness initial-strain \
+              initial-strain-stiffness variable-stiffness/strain; do
   cv_run unload-displacement "$scheme"
   ex_check "unload-displacement, $scheme: residual stress -E eps_p = -148.515 MPa" "$h" \
     'close(at(3)["centre.stress.zz"], -2e11 * 1.5e8 / 2.02e11, 1e-5)'
 done
-for scheme in newton initial-stress initial-strain; do
+for scheme in newton initial-stress initial-strain variable-stiffness/strain; do
   cv_run unload-temperature "$scheme"
   ex_check "unload-temperature, $scheme: residual stress +180.20 MPa" "$h" \
     'close(at(3)["centre.stress.zz"], 2e11 * (2e11 * 2.16e-3 - 250e6) / 2.02e11, 1e-5)'
@@ -70,11 +76,51 @@ cv_run unload-all newton
 ex_check "unload-all, newton: every load gone, the support holds no force" "$s" \
   'abs(s["reactions"]["z1"]["z"]) < 1e-6 * 25e3'
 
+# --- Finding 4: unloading a plastic indentation. The first iterate of a step that lifts the
+# ball drags the nodes in contact after it (reversed flow in 536 points); the step now begins
+# again from u(t) with the contact set that iterate found (Equilibrium::restart). Before, the
+# two unloading steps took 5 cut-backs and 81 iterations with newton; now 7 and none. (Still
+# open: with the steps halved, newton is cut back twice after t = 1, where part of the dent
+# stays on the ball and the set oscillates.)
+cv_run indentation-unload newton
+ex_check "indentation-unload, newton: the ball has left the dent at t = 1.5 (no node, no force)" \
+  "$h" 'at(1.5)["contact.ball.nodes"] == 0 and at(1.8)["contact.ball.force"] == 0'
+# The dent that stays has no closed form. initial-stress (whose first iterates do not drag the
+# nodes: it keeps the elastic matrix) differs from newton by the O(Δt) by which the report's
+# explicit flow direction differs from newton's implicit one (docs/schemes.md): with the steps
+# halved it must come at least twice as close (measured: 2.8 % apart, then 0.8 %).
+h_newton="$h"
+for n in 1 2; do
+  d="$work/issue16/indentation-unload-initial-stress-$n"
+  rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/indentation-unload"/* "$d/"
+  sed -i -E "s/^  scheme: newton$/  scheme: initial-stress/" "$d/case.yaml"
+  [ "$n" = 2 ] && sed -i -E 's/^  times: .*/  times: [0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0, 1.25, 1.5, 1.65, 1.8]/' "$d/case.yaml"
+  expect "indentation-unload, initial-stress, steps / $n: converges" 0 "" -- run "$d/case.yaml" --quiet
+done
+if "$ex_py" - "$h_newton" "$work"/issue16/indentation-unload-initial-stress-{1,2}/case.out/history.csv <<'PY'; then ok "indentation-unload: initial-stress's permanent dent approaches newton's at first order in the step"; else bad "indentation-unload: initial-stress's dent does not approach newton's"; fi
+import csv, sys
+a, b1, b2 = (float(list(csv.DictReader(open(f)))[-1]["centre.displacement.z"]) for f in sys.argv[1:4])
+print(a, b1, b2)
+sys.exit(0 if a < -2e-3 and abs(b2 - a) <= 0.5 * abs(b1 - a) and abs(b2 - a) <= 0.015 * abs(a) else 1)
+PY
+
 # --- Finding 2: the initial-strain schemes at first yield, with relaxation: auto.
-for scheme in newton initial-strain initial-strain-stiffness; do
+# The strain form of variable-stiffness alternated between the elastic 3G and a far too small
+# secant at first yield under the restrained thermal strain (4 cut-backs, status 2); its points
+# take the stress form when their secant alternates.
+for scheme in newton initial-strain initial-strain-stiffness variable-stiffness/strain; do
   cv_run heated-bar "$scheme"
   ex_check "heated-bar, $scheme: sigma_zz = -254.65 MPa at dT = 300 K" "$h" \
     'close(at(1)["centre.stress.zz"], -(250e6 + 2e9 * (2e11 * 1.2e-5 * 300 - 250e6) / 2.02e11), 1e-5)'
+done
+
+# The multilinear curve (plastic slopes E/8 to E/100): the initial-strain schemes failed when
+# an iterate passed the table's end on its way (40 cut-backs), and mixed iterates below the
+# yield stress everywhere cycled (initial-strain-stiffness, 28 cut-backs).
+for scheme in initial-strain initial-strain-stiffness variable-stiffness/strain; do
+  cv_run multilinear-cube "$scheme"
+  ex_check "multilinear-cube, $scheme: 352.475 MPa at 1 % strain" "$h" \
+    'close(at(1)["centre.stress.zz"], 352.475e6, 1e-5)'
 done
 
 # --- Finding 3: initial-stress on a perfectly plastic thick cylinder to 0.9 p_L at tolerance
