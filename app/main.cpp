@@ -1,5 +1,6 @@
 // hencky: command line (see docs/cli.md and the contract CASE_FORMAT.md).
 // Exit status: 0 converged, 1 bad input, 2 a step did not converge, 3 internal error.
+#include <cstdio>
 #include <fmt/format.h>
 #include <omp.h>
 #include <sys/resource.h>
@@ -185,6 +186,11 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            result.status == AnalysisStatus::converged ? "converged" : "stopped", since(t_start),
            result.steps, result.iterations, dir.string());
+  // --quiet drops the progress lines, not the reason a run stopped (exit status 2 alone left
+  // the user to find it in hencky.log).
+  if (quiet && result.status != AnalysisStatus::converged)
+    std::fprintf(stderr, "stopped: %s; the converged steps are in %s\n", result.failure.c_str(),
+                 dir.string().c_str());
   return result.status == AnalysisStatus::converged ? 0 : 2;
 }
 

@@ -407,6 +407,7 @@ void Equilibrium::advance(State& trial, const Evaluation& ev, int iteration, dou
     // iteration evaluates it; nothing is solved in this one. Without it, a mixed λ0 that put
     // every point of a multilinear cube below its yield stress made the plain update return
     // to the step's start: a cycle of three iterations until the step failed.
+    log_.detail("  the mixed iterate doubled the residual: back to the plain one");
     trial.u = plain_u_;
     trial.contact = plain_contact_;
     points_.restore_memory();

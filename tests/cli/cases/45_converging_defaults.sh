@@ -169,6 +169,11 @@ ex_check "multilinear-cube stretched 5 %: summary.json says why, the converged s
   's["status"] == "not-converged" and "The schemes that can run it: newton" in s["failure"]'
 ex_check "multilinear-cube stretched 5 %: history.csv keeps the converged steps, up to the table's end" \
   "$d/case.out/history.csv" 'len(h) >= 7 and 0.65 <= float(h[-1]["time"]) < 0.68'
+# --quiet drops the progress lines, not the reason the run stopped (it used to print nothing
+# and exit with status 2).
+expect "multilinear-cube stretched 5 %, --quiet: the reason is still printed" 2 \
+  "^stopped: step to t = .*The schemes that can run it: newton.*the converged steps are in" \
+  -- run "$d/case.yaml" --quiet
 
 # Without plasticity every scheme is the same linear solve per step, and acceleration: auto
 # mixes nothing: the elastic ball indentation (contact) takes the same iterations with
