@@ -38,7 +38,7 @@ class PointPass {
   /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
   /// the scheme's matrices for the next solve, and the measures. Collective.
   /// `elastic`: every point of a plastic material too takes the elastic law, with the elastic
-  /// matrix, and the scheme's memory is left as it was (the elastic start of a step).
+  /// matrix, and the scheme's memory is set back to the step's start (the elastic start).
   PointPassResult update(const State& c, State& trial, bool elastic = false);
   /// The scheme's matrix at each point, from the last update (plastic materials only).
   const std::vector<Tangent>& tangents() const { return tangent_; }
