@@ -177,7 +177,7 @@ void ContactStep::augmented_offsets(const State& s, std::vector<double>& c,
   if (weight) weight->clear();
   for (const auto& nodes : s.contact)
     for (const ContactNode& n : nodes) {
-      c.push_back(n.contact ? n.force.dot(n.normal) + n.kappa * n.point.dot(n.normal) : 0.0);
+      c.push_back(contact_force(n, Vec3::Zero()).dot(n.normal));  // 0 out of contact
       if (weight) weight->push_back(n.contact ? 1 / n.kappa : 0.0);
     }
 }

@@ -142,7 +142,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
     if (out.iterations > 0) ev = evaluate(c, trial, true);
     if (out.iterations == 1 && contact_.active() && contact_.progress().released > 0 &&
         ev.points.plastic_points > 0)
-      ev = restart(c, trial, u_start);
+      ev = begin_again(c, trial, u_start);
     // With contact, the force a surface's travel puts on the first iterate (κ times the
     // travel) is no force scale of the problem: that of the internal forces of the iterate is.
     const double scale = contact_.active() ? std::max(f_norm, norm(trial.f_int)) : f_norm;
@@ -207,7 +207,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
 /// iterate is an exact point to linearize at, and beginning again there cost an iteration
 /// (the plastic measures of the next iterate compare it with u(t); issue16/unload-all, the
 /// plane lifted off an elastically unloading cube: 26 -> 27 iterations with newton).
-Equilibrium::Evaluation Equilibrium::restart(const State& c, State& trial,
+Equilibrium::Evaluation Equilibrium::begin_again(const State& c, State& trial,
                                              const std::vector<double>& u_start) {
   log_.detail("  the first iterate released {} nodes in contact at t: the step begins again "
               "from u(t) with its contact set",
@@ -328,7 +328,6 @@ Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
     if (int k = dofs.eq[i]; k >= 0) trial.u[i] += scale * last_du_[k];
   points_.begin_step(c, trial);  // the extrapolated start is the step's iteration 0
   Evaluation ev = evaluate(c, trial, false);
-  require_strain_form(ev);
   extrapolated = true;
   ev.points.tangent_changed = ev.points.tangent_changed || at_start.points.tangent_changed;
   log_.detail(

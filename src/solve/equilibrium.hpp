@@ -62,7 +62,7 @@ class Equilibrium {
   void require_strain_form(const Evaluation& ev) const;
   Evaluation predict(const State& c, State& trial, const Evaluation& at_start, double scale,
                      bool& extrapolated);
-  Evaluation restart(const State& c, State& trial, const std::vector<double>& u_start);
+  Evaluation begin_again(const State& c, State& trial, const std::vector<double>& u_start);
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);

@@ -180,16 +180,18 @@ class VariableStiffness final : public Scheme {
     PointUpdate u;
     double lambda = 0, new_tan = it.tan_beta;
     const double ds = it.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
-    bool stress_form = !strain_form_ || it.stress_form;
-    double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
-    const auto fk = strain_form_ && !it.stress_form ? ps.curve.f(a.q0 + ds, right)
-                                                    : Hardening::Point{};
+    // The strain form, unless the point has turned to the stress form in this step (below).
+    const bool strain_now = strain_form_ && !it.stress_form;
+    const auto fk = strain_now ? ps.curve.f(a.q0 + ds, right) : Hardening::Point{};
     // An iterate above the largest stress the curve reaches (the flat end of a table) has no
     // strain on the curve: the point takes the stress form as well (Φ is flat there).
-    if (strain_form_ && !it.stress_form && !std::isfinite(fk.value)) stress_form = true;
+    bool stress_form = !strain_now || !std::isfinite(fk.value);
+    bool defects_set = false;
+    double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
     if (!stress_form) {  // (2.34)
       u.defect_eps = fk.value - (a.eps0 + it.x_prev);
       u.defect_sigma = ds - it.ds_prev;
+      defects_set = true;
       const double den = fk.value - a.eps0;
       // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
       new_tan = std::abs(ds) > 1e-8 * std::max(std::abs(a.q0), ps.curve.yield_now) && den != 0
@@ -212,7 +214,7 @@ class VariableStiffness final : public Scheme {
     }
     if (stress_form) {  // (2.33)
       const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
-      if (!strain_form_ || it.stress_form) {
+      if (!defects_set) {  // not where the strain form gave them (a point turning now)
         u.defect_sigma = ph.value - (a.q0 + ds);
         u.defect_eps = a.xt - it.x_prev;
       }

@@ -91,16 +91,19 @@ ex_check "parallel ball-indentation: the contact force on 3 ranks = serial to 1e
 
 # --- Anderson mixing on ranks (acceleration: auto): the least squares of initial-stress works on
 # the displacements, whole on every rank; that of initial-strain on the points' initial strains,
-# each rank's own, summed over the ranks. Both must take the ranks' run to the serial one.
-for scheme in initial-stress initial-strain; do
-  d="$work/parallel-anderson-$scheme"
-  rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/heated-bar"/* "$d/"
+# each rank's own, summed over the ranks, and with contact (unload-contact) on each contact
+# node's augmented force too, which every rank holds (weighted 1/ranks). All must take the
+# ranks' run to the serial one.
+for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:initial-strain; do
+  case_="${run%%:*}" scheme="${run#*:}"
+  d="$work/parallel-anderson-$case_-$scheme"
+  rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/$case_"/* "$d/"
   sed -i -E "s/^  scheme: newton$/  scheme: $scheme/" "$d/case.yaml"
-  expect "parallel anderson, $scheme: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
-  mpi_expect "parallel anderson, $scheme: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
-  same "parallel anderson, $scheme: 2 ranks = serial to 1e-8" "$d/r1" "$d/r2" 1e-8 \
+  expect "parallel anderson, $case_, $scheme: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
+  mpi_expect "parallel anderson, $case_, $scheme: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
+  same "parallel anderson, $case_, $scheme: 2 ranks = serial to 1e-8" "$d/r1" "$d/r2" 1e-8 \
     displacement,stress,equivalent_plastic_strain
-  ex_check "parallel anderson, $scheme: the same iterations on 2 ranks" "$d/r2/summary.json" \
+  ex_check "parallel anderson, $case_, $scheme: the same iterations on 2 ranks" "$d/r2/summary.json" \
     's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"]'
 done
 

@@ -78,7 +78,7 @@ ex_check "unload-all, newton: every load gone, the support holds no force" "$s" 
 
 # --- Finding 4: unloading a plastic indentation. The first iterate of a step that lifts the
 # ball drags the nodes in contact after it (reversed flow in 536 points); the step now begins
-# again from u(t) with the contact set that iterate found (Equilibrium::restart). Before, the
+# again from u(t) with the contact set that iterate found (Equilibrium::begin_again). Before, the
 # two unloading steps took 5 cut-backs and 81 iterations with newton; now 7 and none. (Still
 # open: with the steps halved, newton is cut back twice after t = 1, where part of the dent
 # stays on the ball and the set oscillates.)
