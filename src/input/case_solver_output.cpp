@@ -19,11 +19,13 @@ namespace {
 const std::vector<std::string> solver_keys = {
     "scheme",         "curve_form",      "steps",      "end",          "times",
     "max_iterations", "tolerance",       "relaxation", "correction",   "cutback",
-    "linear",         "mechanism_limit", "predictor",  "acceleration", "petsc_options"};
+    "linear",         "mechanism_limit", "predictor",  "acceleration", "line_search",
+    "petsc_options"};
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> predictors = {"extrapolate", "none"};
 const std::vector<std::string> accelerations = {"auto", "none", "anderson"};  // Acceleration
+const std::vector<std::string> line_searches = {"auto", "none"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
@@ -129,7 +131,10 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   if (auto x = m.get("curve_form"))
     s.curve_form = index_of(curve_forms, r.choice(*x, curve_forms, "curve form"), s.curve_form);
   s.times = read_step_times(r, m, *v);
-  if (auto x = m.get("max_iterations")) s.max_iterations = r.integer_at_least(*x, 1);
+  if (auto x = m.get("max_iterations"))
+    s.max_iterations = x->node.IsScalar() && trim(x->node.Scalar()) == "auto"
+                           ? 0
+                           : r.integer_at_least(*x, 1);
   if (auto x = m.get("tolerance")) {
     s.tolerance = r.number(*x);
     if (!(s.tolerance > 0 && s.tolerance < 1))
@@ -147,6 +152,8 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   if (auto x = m.get("predictor"))
     s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
   if (auto x = m.get("acceleration")) read_acceleration(r, *x, s);
+  if (auto x = m.get("line_search"))
+    s.line_search = r.choice(*x, line_searches, "line search setting") == "auto";
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
     s.linear = l == "direct"      ? SolverSpec::Linear::direct

@@ -4,6 +4,7 @@
 // and the advance to the next iterate (matrix when it changed, solve, acceleration). The step
 // control (step_control.cpp) decides which steps to take; this decides whether one converges.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,8 +67,9 @@ class Equilibrium {
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
-  void advance(State& trial, const Evaluation& ev, int iteration, double residual,
-               double& previous_residual);
+  void advance(const State& c, State& trial, const Evaluation& ev, int iteration,
+               double residual, double& previous_residual);
+  void line_search(const State& c, State& trial);
   void mix(State& trial);
   double residual_vector(State& trial, double* loads2 = nullptr);
   double equilibrium_defect(const State& s) const;
@@ -98,6 +100,13 @@ class Equilibrium {
   double last_dt_ = 0;
   bool mix_ = false;       ///< solver.acceleration resolved: Anderson mixing of the iterates
   bool elastic_start_ = true;  ///< the first solve of a step that yields points is elastic
+  // solver.line_search resolved; the line search's evaluation of u + δ when it took δ whole
+  // (the next iterate's, without contact), and whether it changed points' matrices
+  int max_iterations_ = 50;  ///< solver.max_iterations resolved
+  bool line_search_ = false;
+  std::optional<Evaluation> searched_;
+  bool searched_tangents_ = false;
+  std::vector<double> u_before_;
   Anderson anderson_{5};
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
   // schemes' λ0 the current iterate was evaluated with and the points' plain update of it

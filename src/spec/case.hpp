@@ -224,7 +224,9 @@ struct SolverSpec {
   SchemeKind scheme = SchemeKind::newton;
   CurveForm curve_form = CurveForm::stress;  ///< variable-stiffness only
   StepTimes times;                    ///< end times of the steps
-  int max_iterations = 50;
+  /// Iteration limit per step: a number >= 1, or 0 for `auto` (the default): 50 for newton and
+  /// variable-stiffness, 200 for the fixed-matrix schemes (Equilibrium's constructor).
+  int max_iterations = 0;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
   /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
   /// at each point the curve's slope at the iterate, ω = tan β / 3G (docs/schemes.md).
@@ -244,6 +246,10 @@ struct SolverSpec {
   /// not allow it), `none` is the report's plain iteration.
   enum class Acceleration { automatic, none, anderson };
   Acceleration acceleration = Acceleration::automatic;
+  /// `line_search: auto | none`: `auto` (the default) scales each correction of
+  /// variable-stiffness after the first of a step by one secant step on the residual's work
+  /// along it (Equilibrium::line_search); `none` takes the corrections whole, as the report.
+  bool line_search = true;
   /// direct and iterative are the serial back ends; petsc (and every run on more than one MPI
   /// rank) the PETSc one.
   Linear linear = Linear::direct;

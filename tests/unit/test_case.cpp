@@ -249,7 +249,8 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_EQ(c.solver.scheme, SchemeKind::newton);
   EXPECT_EQ(c.solver.curve_form, CurveForm::stress);
   EXPECT_EQ(c.solver.times.all(), (std::vector<double>{1.0}));
-  EXPECT_EQ(c.solver.max_iterations, 50);
+  EXPECT_EQ(c.solver.max_iterations, 0);  // auto
+  EXPECT_TRUE(c.solver.line_search);       // auto
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-6);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.0);  // auto
   EXPECT_DOUBLE_EQ(c.solver.correction, 1.0);
@@ -278,6 +279,16 @@ TEST_F(CaseTest, StepTimes) {
   expect_error(base + "solver:\n  steps: 0\n", {"'solver.steps'", ">= 1", "found 0"});
   expect_error(base + "solver:\n  steps: 2.5\n", {"'solver.steps'", "whole number", "'2.5'"});
   expect_error(base + "solver:\n  end: -1\n", {"'solver.end'", "> 0"});
+}
+
+TEST_F(CaseTest, IterationLimitAndLineSearch) {
+  EXPECT_EQ(read(base + "solver: {max_iterations: auto}\n").solver.max_iterations, 0);
+  EXPECT_EQ(read(base + "solver: {max_iterations: 7}\n").solver.max_iterations, 7);
+  EXPECT_FALSE(read(base + "solver: {line_search: none}\n").solver.line_search);
+  EXPECT_TRUE(read(base + "solver: {line_search: auto}\n").solver.line_search);
+  expect_error(base + "solver:\n  max_iterations: 0\n", {"'solver.max_iterations'", "found 0"});
+  expect_error(base + "solver:\n  line_search: secant\n",
+               {"case.yaml:11:16", "'solver.line_search'", "'secant'", "'auto', 'none'"});
 }
 
 TEST_F(CaseTest, StepCountIsBoundedAndEqualStepsAreARule) {

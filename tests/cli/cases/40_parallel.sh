@@ -93,8 +93,10 @@ ex_check "parallel ball-indentation: the contact force on 3 ranks = serial to 1e
 # the displacements, whole on every rank; that of initial-strain on the points' initial strains,
 # each rank's own, summed over the ranks, and with contact (unload-contact) on each contact
 # node's augmented force too, which every rank holds (weighted 1/ranks). All must take the
-# ranks' run to the serial one.
-for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:initial-strain; do
+# ranks' run to the serial one. So must variable-stiffness's line search (line_search: auto),
+# whose decisions (the residual's work along the correction) root takes for every rank.
+for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:initial-strain \
+           epp-cylinder:variable-stiffness; do
   case_="${run%%:*}" scheme="${run#*:}"
   d="$work/parallel-anderson-$case_-$scheme"
   rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/$case_"/* "$d/"
