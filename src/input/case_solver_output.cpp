@@ -103,6 +103,22 @@ void read_acceleration(const Reader& r, const Val& x, SolverSpec& s) {
                std::string(scheme_name(s.scheme)) + "'");
 }
 
+/// correction: γ, a number or an expression of t (one value per step, at its end time), >= 0
+/// at every planned step (a cut-back's time between them is checked when the step begins).
+void read_correction(const Reader& r, const Val& x, SolverSpec& s) {
+  Expression g = r.expression(x);
+  if (g.depends_on_position())
+    r.fail(x, "γ is one value per step: it may depend on t only, found '" + g.text() + "'");
+  for (std::size_t k = 0; k < s.times.size(); ++k) {
+    const double t = s.times[k], v = g(0, 0, 0, t);
+    if (!(v >= 0) || !std::isfinite(v))
+      r.fail(x, "expected a number or an expression of t >= 0 (0 turns the correction off), "
+                "found " + num(v) + (g.is_constant() ? "" : " at t = " + num(t)));
+    if (!g.depends_on_time()) break;
+  }
+  s.correction = std::move(g);
+}
+
 /// petsc_options: only options: a token that is no option must be the value of the one before it.
 void read_petsc_options(const Reader& r, const Val& x, SolverSpec& s) {
   s.petsc_options = r.string(x);
@@ -142,11 +158,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   }
   if (auto x = m.get("relaxation"))
     s.relaxation = r.positive_or_auto(*x, "a relaxation factor > 0").value_or(0.0);
-  if (auto x = m.get("correction")) {
-    s.correction = r.number(*x);
-    if (s.correction < 0)
-      r.fail(*x, "expected a number >= 0 (0 turns the correction off), found " + num(s.correction));
-  }
+  if (auto x = m.get("correction")) read_correction(r, *x, s);
   if (auto x = m.get("cutback")) s.cutback = r.integer_at_least(*x, 0);
   if (auto x = m.get("mechanism_limit")) s.mechanism_limit = r.positive(*x);
   if (auto x = m.get("predictor"))

@@ -276,12 +276,24 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   // F_contact(t) − F_int(t): with γ = 1 the defect left by the previous step is corrected in
   // full. The support's forces of the step are part of the residual (residual_vector), so
   // that R(t) carries ⁽ᵗ⁾F as (3.6) asks.
-  const double gamma = m_.spec().solver.correction;
+  const double gamma = correction(t1);
   target_.resize(dofs.n_dofs());
   for (int i = 0; i < dofs.n_dofs(); ++i)
     target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] + c.f_contact[i] - c.f_int[i]);
   rhs_.resize(dofs.n_free);
   delta_.resize(dofs.n_free);
+}
+
+/// γ of the step that ends at t1 (solver.correction, checked at the planned steps' times when
+/// the case was read; a cut-back's time between them is checked here).
+double Equilibrium::correction(double t1) const {
+  const Expression& g = m_.spec().solver.correction;
+  const double v = g.eval_checked(0, 0, 0, t1, "the correction γ");
+  if (v < 0)
+    throw InputError(g.where(), fmt::format("the correction γ = '{}' is {:g} at t = {:g} (a step "
+                                            "cut back): expected >= 0 at every step",
+                                            g.text(), v, t1));
+  return v;
 }
 
 /// The iterate trial.u: points and internal forces, then (after a solve) the contact's steps

@@ -57,6 +57,7 @@ class Equilibrium {
   };
 
   void begin(const State& c, double t1, State& trial);
+  double correction(double t1) const;
   double step_force(const State& c, const State& trial, const Evaluation& ev) const;
   double history_force(const State& c) const;
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);

@@ -231,7 +231,9 @@ struct SolverSpec {
   /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
   /// at each point the curve's slope at the iterate, ω = tan β / 3G (docs/schemes.md).
   double relaxation = 0;
-  double correction = 1.0;  ///< >= 0; 0 turns the error correction off
+  /// γ of the error correction (2.30), chosen per step as the report says: a number, or an
+  /// expression of t evaluated at each step's end time; >= 0, and 0 turns the correction off.
+  Expression correction{1.0};
   int cutback = 4;          ///< >= 0
   /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
   /// mesh's bounding box stops the run: the body has become a mechanism. > 0.

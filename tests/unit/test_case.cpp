@@ -220,7 +220,7 @@ output:
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.8);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.2);
   EXPECT_FALSE(c.solver.extrapolate);
-  EXPECT_DOUBLE_EQ(c.solver.correction, 0);
+  EXPECT_DOUBLE_EQ(c.solver.correction(0, 0, 0, 1), 0);
   EXPECT_EQ(c.solver.cutback, 2);
   EXPECT_EQ(c.solver.linear, SolverSpec::Linear::iterative);
 
@@ -253,7 +253,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_TRUE(c.solver.line_search);       // auto
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-6);
   EXPECT_DOUBLE_EQ(c.solver.relaxation, 0.0);  // auto
-  EXPECT_DOUBLE_EQ(c.solver.correction, 1.0);
+  EXPECT_DOUBLE_EQ(c.solver.correction(0, 0, 0, 1), 1.0);
   EXPECT_EQ(c.solver.cutback, 4);
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
   EXPECT_TRUE(c.solver.extrapolate);
@@ -909,6 +909,15 @@ TEST_F(CaseTest, SolverChoices) {
   expect_error(base + "solver:\n  curve_form: stres\n", {"did you mean 'stress'?"});
   expect_error(base + "solver:\n  linear: drect\n", {"'solver.linear'", "did you mean 'direct'?"});
   expect_error(base + "solver:\n  correction: -0.5\n", {"'solver.correction'", ">= 0"});
+  // γ per step (the report chooses it "for each time step"): an expression of t, checked at
+  // every planned step's end time.
+  const auto g = read(base + "solver: {times: [0.5, 1], correction: \"t < 0.75 ? 0 : 1\"}\n");
+  EXPECT_DOUBLE_EQ(g.solver.correction(0, 0, 0, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(g.solver.correction(0, 0, 0, 1.0), 1.0);
+  expect_error(base + "solver:\n  steps: 4\n  correction: \"1 - t\"\n  end: 2\n",
+               {"'solver.correction'", ">= 0", "found -0.5 at t = 1.5"});
+  expect_error(base + "solver:\n  correction: \"x\"\n",
+               {"'solver.correction'", "depend on t only", "found 'x'"});
   expect_error(base + "solver:\n  relaxation: 0\n", {"'solver.relaxation'", "expected 'auto' or", "> 0"});
   EXPECT_DOUBLE_EQ(read(base + "solver: {relaxation: auto}\n").solver.relaxation, 0.0);
   expect_error(base + "solver:\n  cutback: -1\n", {"'solver.cutback'", ">= 0"});

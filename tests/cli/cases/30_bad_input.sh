@@ -161,3 +161,16 @@ EX_ALLOW_NAN=1 ex_bad "bad input: expression not finite at step 2 (after step 1 
 out="$("$bin" run "$bd/late-nan.yaml" 2>&1)"
 if ! grep -q "results so far are in" <<<"$out"; then ok "bad input: no pointer to deleted partial results"
 else bad "bad input: points at deleted partial results" "$out"; fi
+
+# --- γ chosen per step (solver.correction, an expression of t) must be >= 0 at every step: the
+#     planned steps' times are checked when the case is read, a cut-back's when its step begins
+#     (here the first step cannot converge in one iteration at a tolerance below round-off and
+#     is halved to t = 0.25, where γ is -1); either way an input error, nothing written.
+ex_variant gamma-planned 's/^solver: \{steps: 2\}/solver: {steps: 2, correction: "t > 0.75 ? -1 : 1"}/'
+ex_bad "bad input: correction < 0 at a planned step" \
+  "gamma-planned\.yaml:[0-9]+:[0-9]+: 'solver\.correction': expected a number or an expression of t >= 0 .*found -1 at t = 1" \
+  "$bd/gamma-planned.yaml"
+ex_variant gamma-cutback 's/^solver: \{steps: 2\}/solver: {steps: 2, tolerance: 1e-30, max_iterations: 1, correction: "abs(t - 0.25) < 1e-9 ? -1 : 1"}/'
+ex_bad "bad input: correction < 0 at a cut-back's time" \
+  "gamma-cutback\.yaml:[0-9]+:[0-9]+: 'solver\.correction': the correction γ = .* is -1 at t = 0\.25 \(a step cut back\)" \
+  "$bd/gamma-cutback.yaml"
