@@ -17,10 +17,9 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::vector<std::string> solver_keys = {
-    "scheme",         "curve_form",      "steps",      "end",          "times",
-    "max_iterations", "tolerance",       "relaxation", "correction",   "cutback",
-    "linear",         "mechanism_limit", "predictor",  "acceleration", "line_search",
-    "petsc_options"};
+    "scheme",    "curve_form",   "steps",       "end",          "times",  "max_iterations",
+    "tolerance", "relaxation",   "correction",  "cutback",      "linear", "mechanism_limit",
+    "predictor", "acceleration", "line_search", "petsc_options"};
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> predictors = {"extrapolate", "none"};
@@ -112,8 +111,10 @@ void read_correction(const Reader& r, const Val& x, SolverSpec& s) {
   for (std::size_t k = 0; k < s.times.size(); ++k) {
     const double t = s.times[k], v = g(0, 0, 0, t);
     if (!(v >= 0) || !std::isfinite(v))
-      r.fail(x, "expected a number or an expression of t >= 0 (0 turns the correction off), "
-                "found " + num(v) + (g.is_constant() ? "" : " at t = " + num(t)));
+      r.fail(x,
+             "expected a number or an expression of t >= 0 (0 turns the correction off), "
+             "found " +
+                 num(v) + (g.is_constant() ? "" : " at t = " + num(t)));
     if (!g.depends_on_time()) break;
   }
   s.correction = std::move(g);
@@ -143,14 +144,14 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   SolverSpec s;
   if (!v) return s;
   Map m(r, *v, solver_keys);
-  if (auto x = m.get("scheme")) s.scheme = index_of(schemes, r.choice(*x, schemes, "scheme"), s.scheme);
+  if (auto x = m.get("scheme"))
+    s.scheme = index_of(schemes, r.choice(*x, schemes, "scheme"), s.scheme);
   if (auto x = m.get("curve_form"))
     s.curve_form = index_of(curve_forms, r.choice(*x, curve_forms, "curve form"), s.curve_form);
   s.times = read_step_times(r, m, *v);
   if (auto x = m.get("max_iterations"))
-    s.max_iterations = x->node.IsScalar() && trim(x->node.Scalar()) == "auto"
-                           ? 0
-                           : r.integer_at_least(*x, 1);
+    s.max_iterations =
+        x->node.IsScalar() && trim(x->node.Scalar()) == "auto" ? 0 : r.integer_at_least(*x, 1);
   if (auto x = m.get("tolerance")) {
     s.tolerance = r.number(*x);
     if (!(s.tolerance > 0 && s.tolerance < 1))

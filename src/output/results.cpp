@@ -15,28 +15,55 @@ namespace {
 constexpr std::array<int, 6> paraview_order{0, 1, 2, 5, 3, 4};
 constexpr std::array<const char*, 6> paraview_names{"xx", "yy", "zz", "xy", "yz", "xz"};
 constexpr std::array<const char*, 3> axes{"x", "y", "z"};
+// The strains of issue 17, as tensors (ε_xy = γ_xy / 2) in ParaView's order like the stress.
+// The probes' columns: ε = ε^e + ε^p + ε^th, all four.
+constexpr std::array<const char*, 4> strain_fields{"strain", "elastic_strain", "plastic_strain",
+                                                   "thermal_strain"};
+double tensor_component(const Voigt& engineering, int c) {
+  return engineering[paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
+}
 }  // namespace
 
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
   return recover_fields(model, state).nodal_stress;
 }
 
-ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
-                         const std::vector<Voigt>& nodal_stress,
-                         std::span<const double> nodal_eps_p_eq) {
+namespace {
+/// The shape functions of the probe's cell at the probe.
+template <class F>
+void at_probe(const Model& model, const Probe& probe, F&& f) {
   const auto& mesh = model.mesh();
   const auto nodes = mesh.cells.nodes(probe.cell);
   double N[max_cell_nodes];
   shape_values(mesh.cells.type[probe.cell], probe.xi, N);
-  ProbeValues v{Vec3::Zero(), Voigt::Zero(), 0, 0, 0};
-  for (std::size_t a = 0; a < nodes.size(); ++a) {
-    const int n = nodes[a];
-    v.displacement += N[a] * Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]);
-    v.stress += N[a] * nodal_stress[n];
-    v.temperature += N[a] * state.nodal_temperature[n];
-    if (!nodal_eps_p_eq.empty()) v.equivalent_plastic_strain += N[a] * nodal_eps_p_eq[n];
-  }
+  for (std::size_t a = 0; a < nodes.size(); ++a) f(N[a], nodes[a]);
+}
+}  // namespace
+
+ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
+                         const std::vector<Voigt>& nodal_stress,
+                         std::span<const double> nodal_eps_p_eq) {
+  ProbeValues v;
+  at_probe(model, probe, [&](double N, int n) {
+    v.displacement += N * Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]);
+    v.stress += N * nodal_stress[n];
+    v.temperature += N * state.nodal_temperature[n];
+    if (!nodal_eps_p_eq.empty()) v.equivalent_plastic_strain += N * nodal_eps_p_eq[n];
+  });
   v.von_mises = von_mises(v.stress);
+  return v;
+}
+
+ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
+                         const RecoveredFields& f) {
+  ProbeValues v = probe_values(model, probe, state, f.nodal_stress, f.nodal_eps_p_eq);
+  at_probe(model, probe, [&](double N, int n) {
+    v.strain += N * f.nodal_strain[n];
+    v.elastic_strain += N * f.nodal_elastic_strain[n];
+    v.thermal_strain += N * f.nodal_thermal_strain[n];
+    if (!f.nodal_plastic_strain.empty()) v.plastic_strain += N * f.nodal_plastic_strain[n];
+    if (!f.nodal_eps_ep.empty()) v.eps_ep += N * f.nodal_eps_ep[n];
+  });
   return v;
 }
 
@@ -178,6 +205,11 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
     history_ << ",contact." << c.spec->name << ".max_penetration,contact." << c.spec->name
              << ".max_pressure";
   }
+  for (const auto& p : model_.probes()) {
+    for (const char* field : strain_fields)
+      for (auto c : paraview_names) history_ << ',' << p.spec->name << '.' << field << '.' << c;
+    history_ << ',' << p.spec->name << ".equivalent_elastoplastic_strain";
+  }
   history_ << '\n';
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
   // A run that stops before its first step converges still reports the three groups (empty).
@@ -206,8 +238,9 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   history_ << fmt::format("{},{:.17g},{},{:.6e}", report.step, report.time, report.iterations,
                           report.residual);
   nlohmann::json probes = nlohmann::json::object(), reaction_json = nlohmann::json::object();
+  std::vector<ProbeValues> probe_row;
   for (const auto& p : model_.probes()) {
-    const ProbeValues v = probe_values(model_, p, state, nodal_stress, fields.nodal_eps_p_eq);
+    const ProbeValues& v = probe_row.emplace_back(probe_values(model_, p, state, fields));
     auto& j = probes[p.spec->name];
     for (int d = 0; d < 3; ++d) {
       history_ << fmt::format(",{:.17g}", v.displacement[d]);
@@ -222,6 +255,11 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
     j["von_mises"] = v.von_mises;
     j["equivalent_plastic_strain"] = v.equivalent_plastic_strain;
     j["temperature"] = v.temperature;
+    const Voigt* strains[4] = {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain};
+    for (int i = 0; i < 4; ++i)
+      for (int c = 0; c < 6; ++c)
+        j[strain_fields[i]][paraview_names[c]] = tensor_component(*strains[i], c);
+    j["equivalent_elastoplastic_strain"] = v.eps_ep;
   }
   for (std::size_t k = 0; k < reactions.size(); ++k)
     for (int d = 0; d < 3; ++d) {
@@ -245,6 +283,11 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   for (const ContactTotals& t : contacts)
     history_ << fmt::format(",{:.17g},{:.17g},{:.17g},{:.6e},{:.17g}", t.resultant.x(),
                             t.resultant.y(), t.resultant.z(), t.max_penetration, t.max_pressure);
+  for (const ProbeValues& v : probe_row) {
+    for (const Voigt* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
+      for (int c = 0; c < 6; ++c) history_ << fmt::format(",{:.17g}", tensor_component(*e, c));
+    history_ << fmt::format(",{:.17g}", v.eps_ep);
+  }
   history_ << '\n';
   history_.flush();
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
@@ -268,14 +311,19 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   // Fields of the contract that a model without plasticity or contact holds at zero.
   zeros_.assign(6 * static_cast<std::size_t>(n), 0.0);
   const std::span<const double> zero6(zeros_), zero1(zeros_.data(), n);
-  // Plastic strain as a tensor (ε_xy = γ_xy / 2), in ParaView's order like the stress.
-  std::vector<double> eps_p;
-  if (!fields.nodal_plastic_strain.empty()) {
-    eps_p.resize(6 * static_cast<std::size_t>(n));
+  // Strains as tensors (ε_xy = γ_xy / 2), in ParaView's order like the stress.
+  const auto tensors = [&](const std::vector<Voigt>& nodal) {
+    std::vector<double> out;
+    if (nodal.empty()) return out;
+    out.resize(6 * static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
-      for (int c = 0; c < 6; ++c)
-        eps_p[6 * i + c] = fields.nodal_plastic_strain[i][paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
-  }
+      for (int c = 0; c < 6; ++c) out[6 * i + c] = tensor_component(nodal[i], c);
+    return out;
+  };
+  const std::vector<double> eps_p = tensors(fields.nodal_plastic_strain),
+                            eps = tensors(fields.nodal_strain),
+                            eps_e = tensors(fields.nodal_elastic_strain),
+                            eps_th = tensors(fields.nodal_thermal_strain);
   const NodalContact contact = nodal_contact(model_, state);
   const auto or_zero = [&](const std::vector<double>& v) {
     return v.empty() ? zero1 : std::span<const double>(v);
@@ -290,6 +338,11 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
       {"contact_pressure", 1, or_zero(contact.pressure)},
       {"contact_state", 1, or_zero(contact.state)},
       {"contact_gap", 1, or_zero(contact.gap)},
+      // after the contract's fields (issue 17)
+      {"strain", 6, eps},
+      {"elastic_strain", 6, eps_e},
+      {"thermal_strain", 6, eps_th},
+      {"equivalent_elastoplastic_strain", 1, or_zero(fields.nodal_eps_ep)},
   };
   const VtuField cell_fields[] = {{"stress", 6, cell_stress},
                                   {"von_mises", 1, fields.cell_von_mises},

@@ -20,15 +20,22 @@ namespace hencky {
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state);
 
 struct ProbeValues {
-  Vec3 displacement;
-  Voigt stress;
-  double von_mises;
-  double temperature;
-  double equivalent_plastic_strain;
+  Vec3 displacement = Vec3::Zero();
+  Voigt stress = Voigt::Zero();
+  double von_mises = 0;
+  double temperature = 0;
+  double equivalent_plastic_strain = 0;
+  /// Engineering shears; zero where the fields were not given (the overload without them).
+  Voigt strain = Voigt::Zero(), elastic_strain = Voigt::Zero(), plastic_strain = Voigt::Zero(),
+        thermal_strain = Voigt::Zero();
+  double eps_ep = 0;  ///< ε̃^{e+p}
 };
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
                          const std::vector<Voigt>& nodal_stress,
                          std::span<const double> nodal_eps_p_eq = {});
+/// Every value of a probe, the strains included, from the recovered fields.
+ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
+                         const RecoveredFields& fields);
 
 /// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext −
 /// F_contact).

@@ -94,8 +94,8 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // solver.line_search: variable-stiffness. newton's corrections never left the band where δ
   // is taken whole on the issue-16 cases (the search would only cost a point pass per
   // iteration with contact); the fixed-matrix schemes have Anderson's mixing instead.
-  line_search_ = plastic_ && m.spec().solver.line_search &&
-                 scheme_->kind() == SchemeKind::variable_stiffness;
+  line_search_ =
+      plastic_ && m.spec().solver.line_search && scheme_->kind() == SchemeKind::variable_stiffness;
   if (plastic_) model_size_ = model_size(m.mesh());
   if (m.has_temperature())
     for (const auto& mat : m.materials())
@@ -157,8 +157,8 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   mixed_last_ = restart_next_ = searched_tangents_ = false;
   searched_.reset();
   for (out.iterations = 0;; ++out.iterations) {
-    if (out.iterations > 0) ev = searched_ ? *std::exchange(searched_, std::nullopt)
-                                           : evaluate(c, trial, true);
+    if (out.iterations > 0)
+      ev = searched_ ? *std::exchange(searched_, std::nullopt) : evaluate(c, trial, true);
     if (out.iterations == 1 && contact_.active() && contact_.progress().released > 0 &&
         ev.points.plastic_points > 0)
       ev = begin_again(c, trial, u_start);
@@ -227,10 +227,11 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
 /// (the plastic measures of the next iterate compare it with u(t); issue16/unload-all, the
 /// plane lifted off an elastically unloading cube: 26 -> 27 iterations with newton).
 Equilibrium::Evaluation Equilibrium::begin_again(const State& c, State& trial,
-                                             const std::vector<double>& u_start) {
-  log_.detail("  the first iterate released {} nodes in contact at t: the step begins again "
-              "from u(t) with its contact set",
-              contact_.progress().released);
+                                                 const std::vector<double>& u_start) {
+  log_.detail(
+      "  the first iterate released {} nodes in contact at t: the step begins again "
+      "from u(t) with its contact set",
+      contact_.progress().released);
   trial.u = u_start;
   points_.begin_step(c, trial);  // the points' memory of the step starts again
   // The solve from u(t) is the elastic one, as at the start of a step (step()). Measured:
@@ -425,11 +426,10 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   const auto& dofs = m_.dofs();
   const auto& spec = m_.spec().solver;
   const MatrixPolicy policy = scheme_->matrix_policy();
-  const bool new_elements =
-      !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
-      ((ev.points.tangent_changed || searched_tangents_) &&
-       (policy == MatrixPolicy::per_iteration ||
-                                     (policy == MatrixPolicy::per_step && iteration <= 1)));
+  const bool new_elements = !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
+                            ((ev.points.tangent_changed || searched_tangents_) &&
+                             (policy == MatrixPolicy::per_iteration ||
+                              (policy == MatrixPolicy::per_step && iteration <= 1)));
   if (mix_ && mixed_last_ && residual > 2 * previous_residual) {
     // Safeguarded mixing: a mixed iterate that doubled the residual is dropped for the plain
     // one it replaced, and the history starts again there (as Peng et al., "Anderson
@@ -468,8 +468,8 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     // A new matrix is a new fixed-point map, and so is a new contact set or a raised κ; a step
     // that doubled the residual left the region where the history describes it: start the
     // history again from here.
-    const bool contact_moved = contact_.active() && (contact_.progress().set_changed ||
-                                                     contact_.progress().kappa_raised);
+    const bool contact_moved =
+        contact_.active() && (contact_.progress().set_changed || contact_.progress().kappa_raised);
     const bool restart = iteration == 0 || refactor || contact_moved || restart_next_ ||
                          residual > 2 * previous_residual;
     restart_next_ = false;
@@ -540,8 +540,10 @@ void Equilibrium::line_search(const State& c, State& trial) {
   Evaluation ev = evaluate(c, trial, false);
   const double ratio = work() / g0;
   double s = 1;
-  if (ratio > 0.2) s = ratio < 2.0 / 3.0 ? 1 / (1 - ratio) : 3.0;
-  else if (ratio < -0.5) s = std::max(0.2, 1 / (1 - ratio));
+  if (ratio > 0.2)
+    s = ratio < 2.0 / 3.0 ? 1 / (1 - ratio) : 3.0;
+  else if (ratio < -0.5)
+    s = std::max(0.2, 1 / (1 - ratio));
   if (only_) par::broadcast(std::span<double>(&s, 1));
   if (s == 1 && !contact_.active()) {
     searched_ = std::move(ev);
@@ -550,8 +552,8 @@ void Equilibrium::line_search(const State& c, State& trial) {
   points_.restore_memory();
   searched_tangents_ = ev.points.tangent_changed;
   if (s != 1)
-    log_.detail("  line search: the correction times {:.3f} (its work from {:.3e} to {:.3e})",
-                s, g0, ratio * g0);
+    log_.detail("  line search: the correction times {:.3f} (its work from {:.3e} to {:.3e})", s,
+                g0, ratio * g0);
   move(s);
 }
 

@@ -30,10 +30,10 @@ struct MaterialModel {
 
 /// A boundary face loaded by pressure, traction or force.
 struct FaceLoad {
-  int face;             ///< index into Mesh::faces
-  int boundary;         ///< index into Case::boundary
-  double sign;          ///< +1 when the face's own normal points out of the body, else -1
-  double scale = 1.0;   ///< 1 / region area for a total force, else 1
+  int face;            ///< index into Mesh::faces
+  int boundary;        ///< index into Case::boundary
+  double sign;         ///< +1 when the face's own normal points out of the body, else -1
+  double scale = 1.0;  ///< 1 / region area for a total force, else 1
 };
 
 struct Probe {
@@ -96,6 +96,11 @@ class Model {
   /// The InputError, at the temperature field's key, for a temperature T of `cell` at time t
   /// that thermal_in_range refuses (t NaN: at every time).
   [[noreturn]] void thermal_out_of_range(int cell, double T, double t) const;
+  /// The thermal strain α(T)·T − α(T_ref)·T_ref (volumetric) of `cell`'s material with the
+  /// constants k at T: the strain of (1.14) accumulated from the reference state.
+  double thermal_strain(int cell, const ElasticConstants& k, double T) const {
+    return k.thermal_strain(T) - reference_strain_[cell_material_[cell]];
+  }
 
  private:
   void bind_materials(Log& log);
@@ -116,13 +121,16 @@ class Model {
   int total_points_ = 0;
   DofMap dofs_;
   std::unique_ptr<Assembler> assembler_;
-  struct PrescribedDof { int dof; const Expression* value; };
+  struct PrescribedDof {
+    int dof;
+    const Expression* value;
+  };
   std::vector<PrescribedDof> prescribed_;
   std::vector<FaceLoad> face_loads_;
   std::vector<Probe> probes_;
   std::vector<ReactionRegion> reactions_;
   std::vector<ContactBody> contacts_;
-  std::vector<int> temperature_row_;  ///< row of the temperature file for each node
+  std::vector<int> temperature_row_;      ///< row of the temperature file for each node
   std::vector<double> reference_strain_;  ///< α(T_ref)·T_ref of each material
   double reference_temperature_ = 0;
 };

@@ -1,8 +1,11 @@
 #include "solve/recovery.hpp"
 
 #include <algorithm>
+#include <array>
 
+#include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
+#include "material/elastic.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {
@@ -12,32 +15,54 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   const int n_nodes = mesh.n_nodes(), n_cells = mesh.cells.size();
   const bool plastic = model.has_plasticity();
   // One buffer per target, so that the ranks' shares are summed in one reduction each: per
-  // node σ (6), then ε^p (6) and ε̃^p (1) with plasticity; per cell σ (6), σ_vM, ε̃^p, zone.
-  const int node_width = plastic ? 13 : 6, cell_width = 9;
+  // node σ, ε, ε^e, ε^th (6 each), then ε^p (6), ε̃^p and ε̃^{e+p} with plasticity; per cell
+  // σ (6), σ_vM, ε̃^p, zone.
+  constexpr int n_tensors = 4;  // σ, ε, ε^e, ε^th
+  const int node_width = plastic ? 6 * n_tensors + 8 : 6 * n_tensors, cell_width = 9;
   std::vector<double> nodal(static_cast<std::size_t>(node_width) * n_nodes, 0.0);
   std::vector<double> cells(with_cells ? static_cast<std::size_t>(cell_width) * n_cells : 0);
   std::vector<int> count(n_nodes, 0);  // cells at each node, over all ranks (the mesh is whole)
+  CellKinematics kin;
+  Vec3 x[max_cell_nodes];
+  double u[3 * max_cell_nodes];
+  std::array<Voigt, n_tensors> at_point[max_cell_points];  // σ, ε, ε^e, ε^th at each point
   for (int e = 0; e < n_cells; ++e) {
     const auto nodes = mesh.cells.nodes(e);
     for (int n : nodes) ++count[n];
     if (!model.holds_points(e)) continue;
     const auto& tab = reference_table(mesh.cells.type[e]);
-    const int p0 = model.point_offset(e);
-    for (std::size_t a = 0; a < nodes.size(); ++a) {
-      Voigt sigma = Voigt::Zero(), eps_p = Voigt::Zero();
-      double eqp = 0;
+    const int p0 = model.point_offset(e), n_cell_nodes = static_cast<int>(nodes.size());
+    for (int a = 0; a < n_cell_nodes; ++a) {
+      x[a] = mesh.x[nodes[a]];
+      for (int d = 0; d < 3; ++d) u[3 * a + d] = state.u[3 * nodes[a] + d];
+    }
+    kin.compute(tab, std::span<const Vec3>(x, n_cell_nodes));
+    for (int q = 0; q < tab.n_points; ++q) {
+      const int p = p0 + q;
+      const ElasticConstants& k = state.constants[p];
+      at_point[q] = {state.stress[p], kin.strain(q, u), k.compliance() * state.stress[p],
+                     volumetric(model.thermal_strain(e, k, state.temperature[p]))};
+    }
+    for (int a = 0; a < n_cell_nodes; ++a) {
+      std::array<Voigt, n_tensors> t;
+      t.fill(Voigt::Zero());
+      Voigt eps_p = Voigt::Zero();
+      double eqp = 0, eps_ep = 0;
       for (int q = 0; q < tab.n_points; ++q) {
-        const double w = tab.extrapolation(static_cast<int>(a), q);
-        sigma += w * state.stress[p0 + q];
+        const double w = tab.extrapolation(a, q);
+        for (int i = 0; i < n_tensors; ++i) t[i] += w * at_point[q][i];
         if (!plastic) continue;
         eps_p += w * state.plastic_strain[p0 + q];
         eqp += w * state.eps_p_eq[p0 + q];
+        eps_ep += w * state.eps_ep[p0 + q];
       }
       double* v = &nodal[static_cast<std::size_t>(node_width) * nodes[a]];
-      for (int k = 0; k < 6; ++k) v[k] += sigma[k];
+      for (int i = 0; i < n_tensors; ++i)
+        for (int k = 0; k < 6; ++k) v[6 * i + k] += t[i][k];
       if (!plastic) continue;
-      for (int k = 0; k < 6; ++k) v[6 + k] += eps_p[k];
-      v[12] += eqp;
+      for (int k = 0; k < 6; ++k) v[6 * n_tensors + k] += eps_p[k];
+      v[6 * n_tensors + 6] += eqp;
+      v[6 * n_tensors + 7] += eps_ep;
     }
     if (!with_cells) continue;
     // The cell means, as sums here (divided on root).
@@ -53,19 +78,24 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   if (with_cells) par::sum_to_root(std::span<double>(cells));
   RecoveredFields f;
   if (!par::root()) return f;
-  f.nodal_stress.assign(n_nodes, Voigt::Zero());
+  std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
+                                            &f.nodal_elastic_strain, &f.nodal_thermal_strain};
+  for (auto* t : tensors) t->assign(n_nodes, Voigt::Zero());
   if (plastic) {
     f.nodal_plastic_strain.assign(n_nodes, Voigt::Zero());
     f.nodal_eps_p_eq.assign(n_nodes, 0.0);
+    f.nodal_eps_ep.assign(n_nodes, 0.0);
   }
   for (int n = 0; n < n_nodes; ++n) {
     if (count[n] == 0) continue;
     const double* v = &nodal[static_cast<std::size_t>(node_width) * n];
-    for (int k = 0; k < 6; ++k) f.nodal_stress[n][k] = v[k] / count[n];
+    for (int i = 0; i < n_tensors; ++i)
+      for (int k = 0; k < 6; ++k) (*tensors[i])[n][k] = v[6 * i + k] / count[n];
     if (!plastic) continue;
-    for (int k = 0; k < 6; ++k) f.nodal_plastic_strain[n][k] = v[6 + k] / count[n];
+    for (int k = 0; k < 6; ++k) f.nodal_plastic_strain[n][k] = v[6 * n_tensors + k] / count[n];
     // Extrapolation from the points may undershoot next to a plastic zone's edge.
-    f.nodal_eps_p_eq[n] = std::max(v[12] / count[n], 0.0);
+    f.nodal_eps_p_eq[n] = std::max(v[6 * n_tensors + 6] / count[n], 0.0);
+    f.nodal_eps_ep[n] = v[6 * n_tensors + 7] / count[n];
   }
   if (!with_cells) return f;
   f.cell_stress.resize(n_cells);

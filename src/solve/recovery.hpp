@@ -14,6 +14,13 @@ struct RecoveredFields {
   std::vector<Voigt> nodal_stress;
   std::vector<Voigt> nodal_plastic_strain;  ///< engineering shears; empty without plasticity
   std::vector<double> nodal_eps_p_eq;       ///< ≥ 0; empty without plasticity
+  /// The strains, engineering shears (issue 17): the total ε = sym ∇u, the thermal
+  /// ε^th = (α(T)·T − α(T_ref)·T_ref)·δ and the elastic ε^e = A(T)σ, the strain the stress
+  /// carries (A the compliance). The update (1.12)-(1.14) keeps ε = ε^e + ε^p + ε^th at
+  /// every point (to round-off where elastic, to the tolerance where the schemes iterate).
+  std::vector<Voigt> nodal_strain, nodal_elastic_strain, nodal_thermal_strain;
+  /// ε̃^{e+p}, the scalar the schemes advance along the curve; empty without plasticity.
+  std::vector<double> nodal_eps_ep;
   /// Per cell: the mean over its points (of σ, of the von Mises stress of each point, of ε̃^p
   /// and of the share of points that flowed in the step).
   std::vector<Voigt> cell_stress;

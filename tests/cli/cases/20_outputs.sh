@@ -77,6 +77,13 @@ for a in PointData:plastic_strain:6 PointData:equivalent_plastic_strain:1 \
 done
 if [ -z "$missing" ]; then ok "step_0002.vtu: plastic and contact arrays of the contract"
 else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
+missing=""
+for a in PointData:strain:6 PointData:elastic_strain:6 PointData:thermal_strain:6 \
+         PointData:equivalent_elastoplastic_strain:1; do
+  grep -qw -- "$a" <<<"$arrays" || missing="$missing $a"
+done
+if [ -z "$missing" ]; then ok "step_0002.vtu: the strains (total, elastic, thermal, ε̃^{e+p})"
+else bad "step_0002.vtu: missing arrays:$missing" "$arrays"; fi
 
 # --- history.csv: the header of the contract (plus hencky's columns at the end), one row per
 # step, final row = summary.
@@ -89,12 +96,19 @@ done
 cols="$cols,reaction.clamp.x,reaction.clamp.y,reaction.clamp.z"
 # hencky's own columns after the contract's: the scheme's measures and counts per step
 cols="$cols,delta_sigma,delta_epsilon,factorizations,plastic_points"
+# then each probe's strains (issue 17): total, elastic, plastic, thermal (tensor components), ε̃^{e+p}
+for p in A mid; do
+  for f in strain elastic_strain plastic_strain thermal_strain; do
+    for c in xx yy zz xy yz xz; do cols="$cols,$p.$f.$c"; done
+  done
+  cols="$cols,$p.equivalent_elastoplastic_strain"
+done
 header="$(head -n 1 "$o/history.csv" 2>/dev/null)"
 if [ "$header" = "$cols" ]; then ok "history.csv: header step,time,iterations,residual, probe, reaction and scheme columns"
 else bad "history.csv: wrong header" "expected: $cols"$'\n'"got:      $header"; fi
 ex_check "history.csv: 2 numeric rows (steps 1, 2 at t = 0.5, 1); the last one matches summary.json" "$o/summary.json" '
 (rows := [l.split(",") for l in open(sys.argv[1].replace("summary.json", "history.csv")).read().split("\n")[1:] if l]) is not None
-and len(rows) == 2 and all(len(r) == 35 for r in rows) and all(float(v) == float(v) for r in rows for v in r)
+and len(rows) == 2 and all(len(r) == 85 for r in rows) and all(float(v) == float(v) for r in rows for v in r)
 and [int(r[0]) for r in rows] == [1, 2] and [float(r[1]) for r in rows] == [0.5, 1.0]
 and close(float(rows[1][6]), s["probes"]["A"]["displacement"]["z"], 1e-12)
 and close(float(rows[1][30]), s["reactions"]["clamp"]["z"], 1e-12)'
@@ -111,6 +125,10 @@ and set(s["probes"]["A"]["displacement"]) == {"x", "y", "z"}
 and all(isinstance(s["probes"]["A"][k], float) for k in ("von_mises", "equivalent_plastic_strain", "temperature"))
 and close(s["probes"]["A"]["temperature"], 30.0, 1e-9) and isinstance(s["probes"]["A"]["stress"]["xx"], float)
 and close(s["reactions"]["clamp"]["z"], 1000.0, 1e-6) and s["contact"] == {}'
+ex_check "summary.json: probes.A.{strain,elastic_strain,plastic_strain,thermal_strain}.*, equivalent_elastoplastic_strain" "$o/summary.json" '
+all(set(s["probes"]["A"][f]) == {"xx", "yy", "zz", "xy", "yz", "xz"}
+    for f in ("strain", "elastic_strain", "plastic_strain", "thermal_strain"))
+and isinstance(s["probes"]["A"]["equivalent_elastoplastic_strain"], float)'
 
 # --- hencky.log: the progress lines, also with --quiet.
 if grep -q "step    2" "$o/hencky.log" 2>/dev/null && grep -q "converged" "$o/hencky.log"; then
@@ -188,3 +206,33 @@ expect "run -o on an unrelated folder: refused (exit 1)" 1 "not a hencky output 
 if [ "$(cat "$od/not-results/thesis.tex" 2>/dev/null)" = "precious" ] && [ -z "$(ls -d "$od"/not-results.* 2>/dev/null)" ]; then
   ok "run -o on an unrelated folder: its files are kept"
 else bad "run -o on an unrelated folder: changed" "$(ls -la "$od/not-results" 2>&1)"; fi
+
+# --- The strains (issue 17) against the closed form of a bar held axially, heated by 180 K past
+# yield and cooled back (tests/cli/inputs/issue16/unload-temperature; uniaxial stress, linear
+# hardening): at t = 1 eps_p_zz = -(E*alpha*dT - sigma_y)/(E + h) = -9.0099e-4 and
+# sigma_zz = -251.80 MPa; the thermal strain is alpha*dT on the diagonal, the total strain along
+# the bar is zero, the elastic one is sigma/E along it and -nu*sigma/E across it, the plastic one
+# across it half that along it with the sign reversed; eps~^{e+p} = eps~^p + sigma~/3G. Cooled
+# back (t = 3) the thermal strain is zero and the elastic strain balances the plastic one.
+d="$work/strains"
+rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/unload-temperature"/* "$d/"
+expect "strains: the restrained bar runs" 0 "" -- run "$d/case.yaml" --quiet
+ex_check "strains at t = 1: thermal, total, elastic, plastic and eps~^{e+p} match the closed form" \
+  "$d/case.out/history.csv" '
+(E := 2e11, nu := 0.3, ep := -(2e11 * 2.16e-3 - 250e6) / (2e11 + 2e9)) is not None
+and (sz := -(250e6 + 2e9 * abs(ep))) is not None
+and (r := at(1)) is not None and (c := "centre.") is not None
+and all(close(r[c + "thermal_strain." + k], 2.16e-3, 1e-12) for k in ("xx", "yy", "zz"))
+and abs(r[c + "strain.zz"]) < 1e-12
+and close(r[c + "elastic_strain.zz"], sz / E, 1e-5) and close(r[c + "elastic_strain.xx"], -nu * sz / E, 1e-5)
+and close(r[c + "plastic_strain.zz"], ep, 1e-5) and close(r[c + "plastic_strain.yy"], -ep / 2, 1e-5)
+and close(r[c + "strain.xx"], 2.16e-3 - nu * sz / E - ep / 2, 1e-5)
+and close(r[c + "equivalent_elastoplastic_strain"], abs(ep) + abs(sz) / (3 * E / (2 * (1 + nu))), 1e-5)'
+ex_check "strains at t = 3: no thermal strain, elastic = -plastic along the bar, total = e + p + th" \
+  "$d/case.out/history.csv" '
+(r := at(3)) is not None and (c := "centre.") is not None
+and all(abs(r[c + "thermal_strain." + k]) < 1e-12 for k in ("xx", "yy", "zz"))
+and close(r[c + "elastic_strain.zz"], -r[c + "plastic_strain.zz"], 1e-6)
+and all(abs(r[c + "strain." + k] - r[c + "elastic_strain." + k] - r[c + "plastic_strain." + k]
+            - r[c + "thermal_strain." + k]) < 1e-12 * 2.16e-3
+        for k in ("xx", "yy", "zz", "xy", "yz", "xz"))'
