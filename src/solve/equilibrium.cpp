@@ -154,7 +154,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   const std::vector<double> u_start = contact_.active() ? trial.u : std::vector<double>();
   double previous_residual = INFINITY;
   anderson_.reset();
-  mixed_last_ = restart_next_ = searched_tangents_ = false;
+  mixed_last_ = restart_next_ = false;
   searched_.reset();
   for (out.iterations = 0;; ++out.iterations) {
     if (out.iterations > 0)
@@ -426,10 +426,10 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   const auto& dofs = m_.dofs();
   const auto& spec = m_.spec().solver;
   const MatrixPolicy policy = scheme_->matrix_policy();
-  const bool new_elements = !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
-                            ((ev.points.tangent_changed || searched_tangents_) &&
-                             (policy == MatrixPolicy::per_iteration ||
-                              (policy == MatrixPolicy::per_step && iteration <= 1)));
+  const bool new_elements =
+      !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
+      (ev.points.tangent_changed && (policy == MatrixPolicy::per_iteration ||
+                                     (policy == MatrixPolicy::per_step && iteration <= 1)));
   if (mix_ && mixed_last_ && residual > 2 * previous_residual) {
     // Safeguarded mixing: a mixed iterate that doubled the residual is dropped for the plain
     // one it replaced, and the history starts again there (as Peng et al., "Anderson
@@ -446,7 +446,6 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     restart_next_ = true;  // the history starts again at the plain iterate
     return;
   }
-  searched_tangents_ = false;
   const bool refactor = new_elements || contact_.matrix_stale(trial);
   if (refactor) assemble_and_factorize(trial, new_elements);
   // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
@@ -549,8 +548,7 @@ void Equilibrium::line_search(const State& c, State& trial) {
     searched_ = std::move(ev);
     return;
   }
-  points_.restore_memory();
-  searched_tangents_ = ev.points.tangent_changed;
+  points_.restore_memory();  // the matrices too: the next update compares with the solve's
   if (s != 1)
     log_.detail("  line search: the correction times {:.3f} (its work from {:.3e} to {:.3e})", s,
                 g0, ratio * g0);

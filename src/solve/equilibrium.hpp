@@ -101,12 +101,11 @@ class Equilibrium {
   double last_dt_ = 0;
   bool mix_ = false;       ///< solver.acceleration resolved: Anderson mixing of the iterates
   bool elastic_start_ = true;  ///< the first solve of a step that yields points is elastic
-  // solver.line_search resolved; the line search's evaluation of u + δ when it took δ whole
-  // (the next iterate's, without contact), and whether it changed points' matrices
   int max_iterations_ = 50;  ///< solver.max_iterations resolved
+  // solver.line_search resolved; the line search's evaluation of u + δ when it took δ whole
+  // (the next iterate's, without contact), and the iterate it searched from
   bool line_search_ = false;
   std::optional<Evaluation> searched_;
-  bool searched_tangents_ = false;
   std::vector<double> u_before_;
   Anderson anderson_{5};
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain

@@ -50,10 +50,17 @@ class PointPass {
   void plastic_point_weights(std::vector<double>& weight) const;
   /// Replaces λ0 at those points (Anderson's mixed iterate).
   void set_initial_strains(std::span<const double> lambda0);
-  /// Keeps, and puts back, the scheme's memory at every point (Anderson's fallback to the plain
-  /// iterate).
-  void save_memory() { saved_iter_ = point_iter_; }
-  void restore_memory() { point_iter_ = saved_iter_; }
+  /// Keeps, and puts back, the scheme's memory and matrix at every point (Anderson's fallback to
+  /// the plain iterate; a line search's trial iterate). With the matrices put back, the next
+  /// update's tangent_changed compares with the matrices of the iterate before the trial.
+  void save_memory() {
+    saved_iter_ = point_iter_;
+    saved_tangent_ = tangent_;
+  }
+  void restore_memory() {
+    point_iter_ = saved_iter_;
+    tangent_ = saved_tangent_;
+  }
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;
@@ -73,6 +80,7 @@ class PointPass {
   std::vector<PointStep> point_step_;
   std::vector<PointIteration> point_iter_, saved_iter_;
   std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update
+  std::vector<Tangent> saved_tangent_;
   std::vector<double> defect_sigma_, defect_eps_, point_volume_;
 };
 
