@@ -22,6 +22,10 @@ constexpr std::array<const char*, 4> strain_fields{"strain", "elastic_strain", "
 double tensor_component(const Voigt& engineering, int c) {
   return engineering[paraview_order[c]] * (c < 3 ? 1.0 : 0.5);
 }
+/// A probe's strains in the order of strain_fields.
+std::array<const Voigt*, 4> strains_of(const ProbeValues& v) {
+  return {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain};
+}
 }  // namespace
 
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
@@ -255,8 +259,8 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
     j["von_mises"] = v.von_mises;
     j["equivalent_plastic_strain"] = v.equivalent_plastic_strain;
     j["temperature"] = v.temperature;
-    const Voigt* strains[4] = {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain};
-    for (int i = 0; i < 4; ++i)
+    const auto strains = strains_of(v);
+    for (std::size_t i = 0; i < strains.size(); ++i)
       for (int c = 0; c < 6; ++c)
         j[strain_fields[i]][paraview_names[c]] = tensor_component(*strains[i], c);
     j["equivalent_elastoplastic_strain"] = v.eps_ep;
@@ -284,7 +288,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
     history_ << fmt::format(",{:.17g},{:.17g},{:.17g},{:.6e},{:.17g}", t.resultant.x(),
                             t.resultant.y(), t.resultant.z(), t.max_penetration, t.max_pressure);
   for (const ProbeValues& v : probe_row) {
-    for (const Voigt* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
+    for (const Voigt* e : strains_of(v))
       for (int c = 0; c < 6; ++c) history_ << fmt::format(",{:.17g}", tensor_component(*e, c));
     history_ << fmt::format(",{:.17g}", v.eps_ep);
   }
