@@ -72,9 +72,14 @@ for scheme in newton initial-stress initial-strain; do
   ex_check "unload-contact, $scheme: bottom face stays at 10 mm * 7.4257e-4" "$h" \
     'close(at(2.5)["bottom.displacement.z"], 0.01 * 1.5e8 / 2.02e11, 1e-4)'
 done
-cv_run unload-all newton
-ex_check "unload-all, newton: every load gone, the support holds no force" "$s" \
-  'abs(s["reactions"]["z1"]["z"]) < 1e-6 * 25e3'
+# The initial-stress schemes converge linearly with their one matrix: with 50 iterations a step
+# (the limit for every scheme before max_iterations: auto gave these 200) they were cut back
+# in steps that were converging (182 iterations and one cut-back; 197 and two).
+for scheme in newton initial-stress initial-stress-stiffness; do
+  cv_run unload-all "$scheme"
+  ex_check "unload-all, $scheme: every load gone, the support holds no force" "$s" \
+    'abs(s["reactions"]["z1"]["z"]) < 1e-6 * 25e3'
+done
 
 # --- Finding 4: unloading a plastic indentation. The first iterate of a step that lifts the
 # ball drags the nodes in contact after it (reversed flow in 536 points); the step now begins
