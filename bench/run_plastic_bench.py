@@ -63,7 +63,9 @@ from henckybench.runs import plastic_ccx_row, plastic_hencky_row, references, re
 
 SCHEMES = ["newton", "variable-stiffness", "initial-strain", "initial-strain-stiffness",
            "initial-stress", "initial-stress-stiffness"]
-# A scheme name with "+anderson" runs that scheme with `solver.acceleration: anderson`.
+# A scheme name with "+anderson" runs that scheme with `solver.acceleration: anderson`, "+auto"
+# with hencky's default acceleration, "+updated" with `solver.geometry: updated`.
+TAGS = ["anderson", "auto", "updated"]
 ACCELERATED = ["initial-stress+anderson", "initial-stress-stiffness+anderson"]
 
 
@@ -256,8 +258,10 @@ def main():
     args.schemes = [s for s in args.schemes.split(",") if s]
     args.hardening_schemes = [s for s in args.hardening_schemes.split(",") if s]
     for s in args.schemes + args.hardening_schemes:
-        if s not in SCHEMES + ACCELERATED:
-            raise SystemExit(f"unknown scheme {s!r}; the schemes are {', '.join(SCHEMES + ACCELERATED)}")
+        base, *tags = s.split("+")
+        if base not in SCHEMES or any(t not in TAGS for t in tags):
+            raise SystemExit(f"unknown scheme {s!r}; the schemes are {', '.join(SCHEMES)}, each with "
+                             f"any of the tags {', '.join('+' + t for t in TAGS)}")
     if args.ccx_timeout is None:
         args.ccx_timeout = args.timeout
     args.timeout = args.timeout or None

@@ -315,9 +315,13 @@ def material_yaml(variant: dict) -> str:
 def plastic_case(msh: Path, scheme: str, variant: dict, args) -> str:
     """hencky's case file of the plastic cylinder: `scheme` ("+anderson": with Anderson
     acceleration, "+auto": hencky's default; a plain name is the report's plain iteration,
-    `acceleration: none`) on the material `variant`, the controls of run_plastic_bench.py's options
-    `args` (steps, tolerance, max_iterations, cutback, linear, relaxation(_stiffness), p_end)."""
-    scheme, _, accel = scheme.partition("+")
+    `acceleration: none`; "+updated": with `geometry: updated`) on the material `variant`, the
+    controls of run_plastic_bench.py's options `args` (steps, tolerance, max_iterations, cutback,
+    linear, relaxation(_stiffness), p_end)."""
+    label = scheme
+    scheme, *tags = scheme.split("+")
+    updated = "updated" in tags
+    accel = next((t for t in tags if t != "updated"), "")
     solver = [f"scheme: {scheme}", f"steps: {args.steps}", "end: 1.0",
               f"tolerance: {args.tolerance!r}", f"max_iterations: {args.max_iterations}",
               f"cutback: {args.cutback}", f"linear: {args.linear}"]
@@ -326,7 +330,9 @@ def plastic_case(msh: Path, scheme: str, variant: dict, args) -> str:
     elif scheme == "initial-strain-stiffness":
         solver.append(f"relaxation: {args.relaxation_stiffness!r}")
     solver.append(f"acceleration: {accel or 'none'}")
-    return f"""title: plastic bench {scheme}{'+' + accel if accel else ''} {variant['name']} {msh.stem}
+    if updated:
+        solver.append("geometry: updated")
+    return f"""title: plastic bench {label} {variant['name']} {msh.stem}
 mesh: {{file: {msh.name}}}
 materials:
   - name: steel

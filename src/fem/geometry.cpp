@@ -83,6 +83,48 @@ void CellKinematics::add_bt_sigma(int q, const Voigt& s, double w, double* f) co
   }
 }
 
+Mat3 CellKinematics::gradient(int q, const double* u) const {
+  Mat3 L = Mat3::Zero();
+  const double* gq = grad(q);
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L(i, j) += u[3 * a + i] * gq[3 * a + j];
+  return L;
+}
+
+Mat3 hughes_winget_rotation(const Mat3& L) {
+  const Mat3 half_w = 0.25 * (L - L.transpose());
+  // I − W/2 is invertible for every skew W (its eigenvalues are 1 and 1 ± i·|w|/2).
+  return (Mat3::Identity() - half_w).inverse() * (Mat3::Identity() + half_w);
+}
+
+namespace {
+/// A symmetric tensor from Voigt {11, 22, 33, 23, 31, 12}, shears divided by `shear`.
+Mat3 tensor_of(const Voigt& v, double shear) {
+  Mat3 t;
+  t << v[0], v[5] / shear, v[4] / shear, v[5] / shear, v[1], v[3] / shear, v[4] / shear,
+      v[3] / shear, v[2];
+  return t;
+}
+Voigt voigt_of(const Mat3& t, double shear) {
+  Voigt v;
+  v << t(0, 0), t(1, 1), t(2, 2), shear * t(1, 2), shear * t(0, 2), shear * t(0, 1);
+  return v;
+}
+}  // namespace
+
+Mat3 stress_tensor(const Voigt& s) {
+  return tensor_of(s, 1);
+}
+
+Voigt rotate_stress(const Mat3& R, const Voigt& s) {
+  return voigt_of(R * tensor_of(s, 1) * R.transpose(), 1);
+}
+
+Voigt rotate_strain(const Mat3& R, const Voigt& e) {
+  return voigt_of(R * tensor_of(e, 2) * R.transpose(), 2);
+}
+
 namespace {
 bool inside_reference(CellType type, const double* xi, double tol) {
   switch (type) {

@@ -79,6 +79,24 @@ struct CellKinematics {
   Voigt strain(int q, const double* u) const;
   /// f_a += w·B̄_aᵀ s.
   void add_bt_sigma(int q, const Voigt& s, double w, double* f) const;
+  /// The displacement gradient L_ij = ∂u_i/∂x_j of nodal displacements u at point q (without
+  /// the B-bar correction, which changes the volumetric part only).
+  Mat3 gradient(int q, const double* u) const;
 };
+
+/// The incremental rotation of Hughes and Winget ("Finite rotation effects in numerical
+/// integration of rate constitutive equations arising in large-deformation analysis", IJNME
+/// 15, 1980) for the gradient L = ∂Δu/∂x of a step's displacement increment on the step's
+/// midpoint configuration: R = (I − W/2)⁻¹(I + W/2), W = (L − Lᵀ)/2. R is orthogonal for any
+/// W, and for a rigid rotation Q of the step it is Q exactly (L is then the Cayley transform
+/// of Q, whose symmetric part, the strain increment, is zero).
+Mat3 hughes_winget_rotation(const Mat3& L);
+
+/// The symmetric tensor of a stress-like Voigt vector s (tensor shears).
+Mat3 stress_tensor(const Voigt& s);
+/// R s Rᵀ for a stress-like Voigt vector s (tensor shears).
+Voigt rotate_stress(const Mat3& R, const Voigt& s);
+/// R e Rᵀ for a strain-like Voigt vector e (engineering shears).
+Voigt rotate_strain(const Mat3& R, const Voigt& e);
 
 }  // namespace hencky

@@ -16,15 +16,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// clang-format off
 const std::vector<std::string> solver_keys = {
-    "scheme",    "curve_form",   "steps",       "end",          "times",  "max_iterations",
-    "tolerance", "relaxation",   "correction",  "cutback",      "linear", "mechanism_limit",
-    "predictor", "acceleration", "line_search", "petsc_options"};
+    "scheme",    "curve_form",   "steps",       "end",           "times",    "max_iterations",
+    "tolerance", "relaxation",   "correction",  "cutback",       "linear",   "mechanism_limit",
+    "predictor", "acceleration", "line_search", "petsc_options", "geometry", "correction_form",
+    "geometric_stiffness"};
+// clang-format on
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
 const std::vector<std::string> predictors = {"extrapolate", "none"};
 const std::vector<std::string> accelerations = {"auto", "none", "anderson"};  // Acceleration
-const std::vector<std::string> line_searches = {"auto", "none"};
+const std::vector<std::string> auto_none = {"auto", "none"};
+const std::vector<std::string> geometries = {"small", "updated"};
+const std::vector<std::string> correction_forms = {"previous", "current"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
 const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
 const std::vector<std::string> probe_keys = {"name", "point"};
@@ -166,7 +171,13 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
     s.extrapolate = r.choice(*x, predictors, "predictor") == "extrapolate";
   if (auto x = m.get("acceleration")) read_acceleration(r, *x, s);
   if (auto x = m.get("line_search"))
-    s.line_search = r.choice(*x, line_searches, "line search setting") == "auto";
+    s.line_search = r.choice(*x, auto_none, "line search setting") == "auto";
+  if (auto x = m.get("geometry"))
+    s.updated_geometry = r.choice(*x, geometries, "geometry") == "updated";
+  if (auto x = m.get("geometric_stiffness"))
+    s.geometric_stiffness = r.choice(*x, auto_none, "geometric stiffness setting") == "auto";
+  if (auto x = m.get("correction_form"))
+    s.correction_current = r.choice(*x, correction_forms, "correction form") == "current";
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
     s.linear = l == "direct"      ? SolverSpec::Linear::direct

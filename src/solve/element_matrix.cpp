@@ -4,8 +4,9 @@
 
 namespace hencky {
 
-void element_matrix(const Model& m, const State& trial, const std::vector<Tangent>& tangents, int e,
-                    CellBuffers& b) {
+void element_matrix(const Model& m, const State& trial, const std::vector<Tangent>& tangents,
+                    const std::vector<Vec3>& config, const std::vector<Voigt>* initial_stress,
+                    int e, CellBuffers& b) {
   const auto& mesh = m.mesh();
 
   const auto nodes = mesh.cells.nodes(e);
@@ -14,7 +15,7 @@ void element_matrix(const Model& m, const State& trial, const std::vector<Tangen
   const bool plastic = m.material_of(e).plastic();
   const Tangent elastic;
   Vec3 x[max_cell_nodes], bv[max_cell_nodes];
-  for (int a = 0; a < n; ++a) x[a] = mesh.x[nodes[a]];
+  for (int a = 0; a < n; ++a) x[a] = config[nodes[a]];
   CellKinematics& kin = thread_kinematics();
   kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
   for (int q = 0; q < kin.points; ++q) {
@@ -65,12 +66,15 @@ void element_matrix(const Model& m, const State& trial, const std::vector<Tangen
                                                      dq[3 * a + i] * bv[bb][j] +
                                                      mcm * dq[3 * a + i] * dq[3 * bb + j];
     }
-    // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
+    // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I); with an
+    // initial stress σ0 also (g_a·σ0 g_b) I.
+    const Mat3 s0 = initial_stress ? Mat3(stress_tensor((*initial_stress)[p]) * w) : Mat3::Zero();
     for (int a = 0; a < n; ++a) {
       const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+      const Vec3 s0ga = s0 * ga;
       for (int bb = a; bb < n; ++bb) {
         const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
-        const double dot = mu * ga.dot(gb);
+        const double dot = mu * ga.dot(gb) + s0ga.dot(gb);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
             const double v = lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);

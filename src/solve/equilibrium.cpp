@@ -97,6 +97,9 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   line_search_ =
       plastic_ && m.spec().solver.line_search && scheme_->kind() == SchemeKind::variable_stiffness;
   if (plastic_) model_size_ = model_size(m.mesh());
+  updated_ = m.spec().solver.updated_geometry;
+  geometric_ = updated_ && m.spec().solver.geometric_stiffness;
+  x_ = m.mesh().x;
   if (m.has_temperature())
     for (const auto& mat : m.materials())
       matrix_changes_with_temperature_ = matrix_changes_with_temperature_ ||
@@ -270,19 +273,61 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   m_.nodal_temperature(t1, trial.nodal_temperature);
   points_.temperatures(trial, log_);
   m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
-  m_.external_forces(t1, trial.f_ext);
+  if (updated_)
+    for (int n = 0; n < m_.mesh().n_nodes(); ++n)
+      x_[n] = m_.mesh().x[n] + Vec3(c.u[3 * n], c.u[3 * n + 1], c.u[3 * n + 2]);
+  m_.external_forces(t1, trial.f_ext, updated_ ? &x_ : nullptr);
   if (plastic_) points_.begin_step(c, trial);
   if (contact_.active()) contact_.begin(c, trial);
-  // Equilibrium target of the step, (2.29)-(2.30): F(t+Δt) − (1 − γ)·R(t), R(t) = F(t) +
-  // F_contact(t) − F_int(t): with γ = 1 the defect left by the previous step is corrected in
-  // full. The support's forces of the step are part of the residual (residual_vector), so
-  // that R(t) carries ⁽ᵗ⁾F as (3.6) asks.
+  // Equilibrium target of the step, (2.29)-(2.30). The step's equation is written on x_:
+  //   ∫Bᵀ(σ − σ(t)) [+ the initial-stress term] = P(t+Δt) − P(t) + ΔF_contact + γ·R(t),
+  // with P and ∫Bᵀσ(t) on x_ and R(t) = ⁽ᵗ⁾P + ⁽ᵗ⁾F_contact − ∫Bᵀσ(t), the defect the previous
+  // step left: on the configuration of the step before, as that step computed it (2.30; the
+  // state keeps f_ext and f_int as their step computed them), or on x_ (2.31,
+  // correction_form: current). The iterate's F_int (PointPass::update) is ∫Bᵀσ on x_ plus,
+  // with geometric_stiffness, the first-order change of σ(t)'s forces as x_ moves by Δu. On
+  // the undeformed mesh both forms are c's own figures and the target is
+  // F(t+Δt) − (1 − γ)·R(t): with γ = 1 the defect is corrected in full. The supports' forces
+  // of the step are part of the residual (residual_vector), so that R(t) carries ⁽ᵗ⁾F as
+  // (3.6) asks.
   const double gamma = correction(t1);
+  const std::vector<double>* loads = &c.f_ext;  // P(t) and ∫Bᵀσ(t) on x_
+  const std::vector<double>* forces = &c.f_int;
+  if (updated_) {
+    m_.external_forces(c.time, loads_at_t_, &x_);
+    points_.internal_forces(c, x_, forces_at_t_);
+    loads = &loads_at_t_;
+    forces = &forces_at_t_;
+    report_defect(c);
+  }
+  const bool current = m_.spec().solver.correction_current;
+  const std::vector<double>& loads_r = current ? *loads : c.f_ext;  // those of R(t)
+  const std::vector<double>& forces_r = current ? *forces : c.f_int;
   target_.resize(dofs.n_dofs());
   for (int i = 0; i < dofs.n_dofs(); ++i)
-    target_[i] = trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] + c.f_contact[i] - c.f_int[i]);
+    target_[i] = updated_
+                     ? trial.f_ext[i] - ((*loads)[i] + c.f_contact[i] - (*forces)[i]) +
+                           gamma * (loads_r[i] + c.f_contact[i] - forces_r[i])
+                     : trial.f_ext[i] - (1 - gamma) * (c.f_ext[i] + c.f_contact[i] - c.f_int[i]);
   rhs_.resize(dofs.n_free);
   delta_.resize(dofs.n_free);
+}
+
+/// Under `geometry: updated`, the log's figure of the equilibrium defect of σ(t) on the
+/// configuration reached at t, ‖P(t) + F_contact(t) − ∫Bᵀσ(t)‖ over x_ on the free dofs: what
+/// the step before left (the residual (2.31) corrects), against the larger of the loads and
+/// those internal forces (the supports' included).
+void Equilibrium::report_defect(const State& c) const {
+  const auto& dofs = m_.dofs();
+  double d2 = 0;
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (dofs.eq[i] >= 0) {
+      const double d = loads_at_t_[i] + c.f_contact[i] - forces_at_t_[i];
+      d2 += d * d;
+    }
+  const double scale = std::max(norm(loads_at_t_), norm(forces_at_t_));
+  log_.detail("  equilibrium defect at t = {:g} on its configuration: {:.3e} ({:.3e} relative)",
+              c.time, std::sqrt(d2), scale > 0 ? std::sqrt(d2) / scale : 0.0);
 }
 
 /// γ of the step that ends at t1 (solver.correction, checked at the planned steps' times when
@@ -315,8 +360,14 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
                                               bool elastic) {
   Evaluation ev;
   auto t0 = Clock::now();
-  ev.points = points_.update(c, trial, elastic);
+  ev.points = points_.update(c, trial, x_, elastic);
   timings_.material += seconds_since(t0);
+  if (const int e = ev.points.inverted_cell; e >= 0)
+    throw SolveError(fmt::format(
+        "element {} is turned inside out at t = {:g} or halfway through the step to t = {:g} "
+        "(geometry: updated): the step moved its nodes past each other; smaller steps may "
+        "follow the deformation, a mesh this distorted will not",
+        m_.mesh().cells.tag[e], c.time, trial.time));
   negative_secant_cell_ = ev.points.negative_secant_cell;
   if (contact_.active() && update_contact) {
     t0 = Clock::now();
@@ -402,7 +453,7 @@ void Equilibrium::accept(const State& c, State& trial, double scale, StepOutcome
   out.residual = scale > 0 ? equilibrium_defect(trial) / scale : 0.0;
   // Small strains: an equilibrium found with displacements of the order of the body is a
   // mechanism (a load at or above the plastic limit load), not an answer.
-  if (plastic_) {
+  if (plastic_ && !updated_) {
     double u_max = 0;
     for (int n = 0; n < m_.mesh().n_nodes(); ++n)
       u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
@@ -427,7 +478,7 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   const auto& spec = m_.spec().solver;
   const MatrixPolicy policy = scheme_->matrix_policy();
   const bool new_elements =
-      !factorized_ || (iteration == 0 && matrix_changes_with_temperature_) ||
+      !factorized_ || (iteration == 0 && (matrix_changes_with_temperature_ || updated_)) ||
       (ev.points.tangent_changed && (policy == MatrixPolicy::per_iteration ||
                                      (policy == MatrixPolicy::per_step && iteration <= 1)));
   if (mix_ && mixed_last_ && residual > 2 * previous_residual) {
@@ -447,7 +498,7 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     return;
   }
   const bool refactor = new_elements || contact_.matrix_stale(trial);
-  if (refactor) assemble_and_factorize(trial, new_elements);
+  if (refactor) assemble_and_factorize(c, trial, new_elements);
   // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
   // tolerance, not to its own default (an inexact Newton method with a fixed forcing term,
   // after Eisenstat and Walker): the error it leaves is a thousandth of what convergence
@@ -661,12 +712,13 @@ void Equilibrium::remember_increment(const State& c, const State& trial) {
 /// Assembles the matrix (the elements' part only when `new_elements` or when it was never
 /// kept: a change of the contact alone starts from the elements' part of the last assembly)
 /// and factorizes it.
-void Equilibrium::assemble_and_factorize(const State& trial, bool new_elements) {
+void Equilibrium::assemble_and_factorize(const State& c, const State& trial, bool new_elements) {
   auto t0 = Clock::now();
+  const std::vector<Voigt>* initial = geometric_ ? &c.stress : nullptr;
   if (new_elements || !contact_.active() || !system_.restore_cells()) {
     const auto& tangents = points_.tangents();
     system_.assemble_cells(
-        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, e, b); });
+        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x_, initial, e, b); });
     if (contact_.active()) system_.keep_cells();
   }
   if (contact_.active())

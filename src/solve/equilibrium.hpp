@@ -58,6 +58,7 @@ class Equilibrium {
 
   void begin(const State& c, double t1, State& trial);
   double correction(double t1) const;
+  void report_defect(const State& c) const;
   double step_force(const State& c, const State& trial, const Evaluation& ev) const;
   double history_force(const State& c) const;
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
@@ -75,7 +76,7 @@ class Equilibrium {
   double residual_vector(State& trial, double* loads2 = nullptr);
   double equilibrium_defect(const State& s) const;
   void remember_increment(const State& c, const State& trial);
-  void assemble_and_factorize(const State& trial, bool new_elements);
+  void assemble_and_factorize(const State& c, const State& trial, bool new_elements);
   void factorize();
 
   const Model& m_;
@@ -88,6 +89,12 @@ class Equilibrium {
   PointPass points_;
   ContactStep contact_;
   bool matrix_changes_with_temperature_ = false;
+  // solver.geometry: updated; the nodes' coordinates the step is written on: the mesh's, or
+  // X + u(t) under `updated` (set by begin)
+  bool updated_ = false;
+  std::vector<Vec3> x_;
+  std::vector<double> loads_at_t_, forces_at_t_;  ///< P and ∫Bᵀσ(t) on x_ (updated)
+  bool geometric_ = false;                        ///< solver.geometric_stiffness under `updated`
   bool factorized_ = false;
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;

@@ -464,17 +464,24 @@ namespace {
 }
 }  // namespace
 
-void Model::external_forces(double t, std::vector<double>& f) const {
+void Model::external_forces(double t, std::vector<double>& f,
+                            const std::vector<Vec3>* config) const {
   f.assign(3 * static_cast<std::size_t>(mesh_.n_nodes()), 0.0);
-  std::vector<Vec3> x(max_cell_nodes);
+  std::vector<Vec3> x(max_cell_nodes), xc(max_cell_nodes);
   for (const FaceLoad& load : face_loads_) {
     const BoundarySpec& bc = case_->boundary[load.boundary];
     const auto nodes = mesh_.faces.nodes(load.face);
     const auto& tab = reference_table(mesh_.faces.type[load.face]);
-    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
-    const std::span<const Vec3> xs(x.data(), nodes.size());
+    for (std::size_t a = 0; a < nodes.size(); ++a) {
+      x[a] = mesh_.x[nodes[a]];
+      xc[a] = config ? (*config)[nodes[a]] : x[a];
+    }
+    const std::span<const Vec3> xs(x.data(), nodes.size()), xcs(xc.data(), nodes.size());
     for (int q = 0; q < tab.n_points; ++q) {
-      const Vec3 n_da = face_normal(tab, q, xs) * (load.sign * tab.weights[q]);  // outward n dA
+      // Outward n dA on the configuration loaded: a pressure follows the faces, a traction
+      // acts on their current area; a total force keeps its distribution over the undeformed
+      // region (it stays that force). The expressions take the undeformed coordinates.
+      const Vec3 n_da = face_normal(tab, q, xcs) * (load.sign * tab.weights[q]);
       const Vec3 p = point_position(tab, q, xs);
       Vec3 traction;
       if (bc.kind == BoundaryKind::pressure) {
@@ -482,7 +489,10 @@ void Model::external_forces(double t, std::vector<double>& f) const {
       } else {
         for (int d = 0; d < 3; ++d)
           traction[d] = bc.components[d]->eval_checked(p.x(), p.y(), p.z(), t, to_string(bc.kind));
-        traction *= load.scale * n_da.norm();
+        const double da = bc.kind == BoundaryKind::force && config
+                              ? face_normal(tab, q, xs).norm() * tab.weights[q]
+                              : n_da.norm();
+        traction *= load.scale * da;
       }
       const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
       for (std::size_t a = 0; a < nodes.size(); ++a)

@@ -86,8 +86,11 @@ class Model {
   /// Prescribed displacement at time t written into the prescribed entries of u (3 per node).
   void prescribed_displacement(double t, std::vector<double>& u) const;
   /// External nodal forces at time t (pressure, traction, force, body force), 3 per node.
-  /// A load whose nodal forces overflow is an InputError at its key.
-  void external_forces(double t, std::vector<double>& f) const;
+  /// A load whose nodal forces overflow is an InputError at its key. `config`: the nodes'
+  /// coordinates the faces are loaded on (geometry: updated), else the mesh's; body forces stay
+  /// per unit undeformed volume.
+  void external_forces(double t, std::vector<double>& f,
+                       const std::vector<Vec3>* config = nullptr) const;
 
   /// Whether the constants k of material `mi` at temperature T give a thermal strain
   /// α(T)·T − α(T_ref)·T_ref that, and whose stress when fully restrained (E/(1 − 2ν) times

@@ -90,11 +90,20 @@ void PointPass::begin_step(const State& c, const State& trial) {
 
 /// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
 /// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
-PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
+/// Under `geometry: updated` x is the configuration at t: the internal forces are integrated
+/// over it; the strain increment and the rotation R of Hughes and Winget come from the
+/// gradient of Δu on the midpoint configuration x + Δu/2. The point law works in the frame of
+/// the start of the step, on Rᵀ Δε R, and its stress, plastic strain and matrix are turned
+/// forward by R: the same as rotating σ(t) and ε^p(t) first for an isotropic law, and it keeps
+/// the step's flow direction Z of σ(t) valid.
+PointPassResult PointPass::update(const State& c, State& trial, const std::vector<Vec3>& config,
+                                  bool elastic) {
   const auto& mesh = m_.mesh();
+  const bool updated = m_.spec().solver.updated_geometry;
+  const bool geometric = updated && m_.spec().solver.geometric_stiffness;
   trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
   std::atomic<bool> changed{false};
-  std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1};
+  std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1}, inverted_cell{-1};
   // The point's matrix for the next solve; a change is what makes the step loop assemble again.
   auto set_tangent = [&](int p, const Tangent& t) {
     const Tangent& old = tangent_[p];
@@ -110,15 +119,36 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
         Vec3 x[max_cell_nodes];
         double du[3 * max_cell_nodes];
         for (int a = 0; a < n; ++a) {
-          x[a] = mesh.x[nodes[a]];
+          x[a] = config[nodes[a]];
           for (int d = 0; d < 3; ++d)
             du[3 * a + d] = trial.u[3 * nodes[a] + d] - c.u[3 * nodes[a] + d];
         }
+        const ReferenceTable& table = reference_table(mesh.cells.type[e]);
         CellKinematics& kin = thread_kinematics();
-        kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+        double det = kin.compute(table, std::span<const Vec3>(x, n));
+        const CellKinematics* mid = &kin;  // where Δε and R are taken
+        if (updated) {
+          for (int a = 0; a < n; ++a) x[a] += 0.5 * Vec3(du[3 * a], du[3 * a + 1], du[3 * a + 2]);
+          CellKinematics& km = thread_kinematics_midpoint();
+          det = std::min(det, km.compute(table, std::span<const Vec3>(x, n)));
+          mid = &km;
+          // A cell turned inside out at t or halfway through the step has no strain: the
+          // step fails (Equilibrium::evaluate) and is cut back. The undeformed mesh was
+          // checked when the model was made.
+          if (!(det > 0)) {
+            int none = -1;
+            inverted_cell.compare_exchange_strong(none, e);
+            return;
+          }
+        }
         for (int q = 0; q < kin.points; ++q) {
           const int p = m_.point_offset(e) + q;
-          const Voigt d_eps = kin.strain(q, du);
+          Voigt d_eps = mid->strain(q, du);
+          Mat3 R;
+          if (updated) {
+            R = hughes_winget_rotation(mid->gradient(q, du));
+            d_eps = rotate_strain(R.transpose(), d_eps);  // into the frame of the step's start
+          }
           if (!plastic || elastic) {
             trial.stress[p] =
                 elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
@@ -137,8 +167,8 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
             const Voigt d_mech = d_eps - thermal_strain_increment(
                                              c.constants[p], c.temperature[p], trial.constants[p],
                                              trial.temperature[p], c.stress[p]);
-            const PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p],
-                                                   point_iter_[p], c.stress[p], d_mech);
+            PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
+                                             c.stress[p], d_mech);
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);
@@ -148,6 +178,7 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
               int none = -1;
               negative_secant_cell.compare_exchange_strong(none, e);
             }
+            if (updated) u.tangent.v = rotate_stress(R, u.tangent.v);
             trial.stress[p] = u.sigma;
             trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
             trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
@@ -158,7 +189,24 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
             defect_eps_[p] = u.defect_eps;
             set_tangent(p, u.tangent);
           }
+          if (updated) {
+            trial.stress[p] = rotate_stress(R, trial.stress[p]);
+            if (plastic) trial.plastic_strain[p] = rotate_strain(R, trial.plastic_strain[p]);
+          }
           kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
+          if (geometric) {
+            // The change of the internal forces of σ(t) with the configuration, to first order
+            // in Δu (the derivative of ∫∇v:σ dΩ over x_t + Δu): on node a, with L = ∂Δu/∂x on x_t,
+            //   ∫ σ(t) (tr L·I − Lᵀ) ∇N_a dΩ.
+            const Mat3 L = kin.gradient(q, du);
+            const Mat3 sl = stress_tensor(c.stress[p]) *
+                            (L.trace() * Mat3::Identity() - L.transpose()) * kin.dv[q];
+            const double* g = kin.grad(q);
+            for (int a = 0; a < n; ++a)
+              for (int i = 0; i < 3; ++i)
+                b.fe[3 * a + i] +=
+                    sl(i, 0) * g[3 * a] + sl(i, 1) * g[3 * a + 1] + sl(i, 2) * g[3 * a + 2];
+          }
         }
       },
       trial.f_int, only_);
@@ -166,10 +214,30 @@ PointPassResult PointPass::update(const State& c, State& trial, bool elastic) {
   PointPassResult r;
   r.undefined_cell = par::max(undefined_cell.load());
   r.negative_secant_cell = par::max(negative_secant_cell.load());
+  r.inverted_cell = par::max(inverted_cell.load());
   r.tangent_changed = par::any(changed.load());
   if (only_) par::sum_in_place(std::span<double>(trial.f_int));
   if (plastic_) measures(trial, r);
   return r;
+}
+
+void PointPass::internal_forces(const State& s, const std::vector<Vec3>& config,
+                                std::vector<double>& f) const {
+  const auto& mesh = m_.mesh();
+  f.assign(m_.dofs().n_dofs(), 0.0);
+  m_.assembler().vector(
+      [&](int e, CellBuffers& b) {
+        const auto nodes = mesh.cells.nodes(e);
+        const int n = static_cast<int>(nodes.size());
+        Vec3 x[max_cell_nodes];
+        for (int a = 0; a < n; ++a) x[a] = config[nodes[a]];
+        CellKinematics& kin = thread_kinematics();
+        kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
+        for (int q = 0; q < kin.points; ++q)
+          kin.add_bt_sigma(q, s.stress[m_.point_offset(e) + q], kin.dv[q], b.fe);
+      },
+      f, only_);
+  if (only_) par::sum_in_place(std::span<double>(f));
 }
 
 template <class F>

@@ -17,6 +17,7 @@ struct PointPassResult {
   bool tangent_changed = false;   ///< a plastic point's matrix differs from the last pass's
   int undefined_cell = -1;        ///< a cell whose scheme needed F above the curve, or -1
   int negative_secant_cell = -1;  ///< a cell with a negative variable-stiffness secant, or -1
+  int inverted_cell = -1;  ///< geometry: updated, a cell turned inside out by the iterate, or -1
   double delta_sigma = 0;         ///< the scheme's Δ^σ (0 without plasticity)
   double delta_eps = 0;           ///< the scheme's Δ^ε
   int plastic_points = 0;         ///< points that flow plastically in this iterate
@@ -39,7 +40,13 @@ class PointPass {
   /// the scheme's matrices for the next solve, and the measures. Collective.
   /// `elastic`: every point of a plastic material too takes the elastic law, with the elastic
   /// matrix, and the scheme's memory is set back to the step's start (the elastic start).
-  PointPassResult update(const State& c, State& trial, bool elastic = false);
+  /// `x`: the nodes' coordinates the step is written on (the mesh's, or X + u(t) under
+  /// `geometry: updated`, where the stress is also rotated with the increment).
+  PointPassResult update(const State& c, State& trial, const std::vector<Vec3>& x,
+                         bool elastic = false);
+  /// The internal forces ∫Bᵀσ of the stresses of s over the configuration x, into f (whole on
+  /// every rank). Collective.
+  void internal_forces(const State& s, const std::vector<Vec3>& x, std::vector<double>& f) const;
   /// The scheme's matrix at each point, from the last update (plastic materials only).
   const std::vector<Tangent>& tangents() const { return tangent_; }
   /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials

@@ -14,6 +14,7 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   const auto& mesh = model.mesh();
   const int n_nodes = mesh.n_nodes(), n_cells = mesh.cells.size();
   const bool plastic = model.has_plasticity();
+  const bool updated = model.spec().solver.updated_geometry;
   // One buffer per target, so that the ranks' shares are summed in one reduction each: per
   // node σ, ε, ε^e, ε^th (6 each), then ε^p (6), ε̃^p and ε̃^{e+p} with plasticity; per cell
   // σ (6), σ_vM, ε̃^p, zone.
@@ -40,8 +41,14 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
     for (int q = 0; q < tab.n_points; ++q) {
       const int p = p0 + q;
       const ElasticConstants& k = state.constants[p];
-      at_point[q] = {state.stress[p], kin.strain(q, u), k.compliance() * state.stress[p],
-                     volumetric(model.thermal_strain(e, k, state.temperature[p]))};
+      const Voigt elastic = k.compliance() * state.stress[p];
+      const Voigt thermal = volumetric(model.thermal_strain(e, k, state.temperature[p]));
+      // Under `geometry: updated` the strain of the displacement on the undeformed mesh means
+      // nothing once the body turns: the total strain is the sum of the objective increments,
+      // elastic + plastic + thermal (the additive split the step's law keeps).
+      const Voigt total =
+          updated ? Voigt(elastic + state.plastic_strain[p] + thermal) : kin.strain(q, u);
+      at_point[q] = {state.stress[p], total, elastic, thermal};
     }
     for (int a = 0; a < n_cell_nodes; ++a) {
       std::array<Voigt, n_tensors> t;

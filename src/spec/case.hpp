@@ -252,6 +252,20 @@ struct SolverSpec {
   /// variable-stiffness after the first of a step by one secant step on the residual's work
   /// along it (Equilibrium::line_search); `none` takes the corrections whole, as the report.
   bool line_search = true;
+  /// `geometry: small | updated`. `small` (the default): every step on the undeformed mesh.
+  /// `updated`: each step's matrix, internal forces and face loads on the configuration at
+  /// its start, X + u(t), the report's ^(t)Ω, with the stress rotated objectively
+  /// (Hughes–Winget; docs/schemes.md, "Updated geometry").
+  bool updated_geometry = false;
+  /// `geometric_stiffness: auto | none` (updated geometry only): `auto` adds to each step's
+  /// equations the first-order change of the internal forces of σ(t) with the configuration
+  /// (and its symmetric initial-stress matrix); `none` is (2.27) as written, whose steps are
+  /// stable only while the geometric stiffness stays below the material one (docs/schemes.md).
+  bool geometric_stiffness = true;
+  /// `correction_form: previous | current`: R of the correction integrated over the
+  /// configuration of the step before, (2.30), as the report chooses (the default), or over
+  /// the configuration at t, (2.31). The same under `geometry: small`.
+  bool correction_current = false;
   /// direct and iterative are the serial back ends; petsc (and every run on more than one MPI
   /// rank) the PETSc one.
   Linear linear = Linear::direct;
