@@ -92,12 +92,6 @@ Mat3 CellKinematics::gradient(int q, const double* u) const {
   return L;
 }
 
-Mat3 hughes_winget_rotation(const Mat3& L) {
-  const Mat3 half_w = 0.25 * (L - L.transpose());
-  // I − W/2 is invertible for every skew W (its eigenvalues are 1 and 1 ± i·|w|/2).
-  return (Mat3::Identity() - half_w).inverse() * (Mat3::Identity() + half_w);
-}
-
 namespace {
 /// A symmetric tensor from Voigt {11, 22, 33, 23, 31, 12}, shears divided by `shear`.
 Mat3 tensor_of(const Voigt& v, double shear) {
@@ -117,12 +111,69 @@ Mat3 stress_tensor(const Voigt& s) {
   return tensor_of(s, 1);
 }
 
-Voigt rotate_stress(const Mat3& R, const Voigt& s) {
-  return voigt_of(R * tensor_of(s, 1) * R.transpose(), 1);
-}
-
 Voigt rotate_strain(const Mat3& R, const Voigt& e) {
   return voigt_of(R * tensor_of(e, 2) * R.transpose(), 2);
+}
+
+double CellDeformation::compute(const CellKinematics& kin, const double* du) {
+  n = kin.n;
+  points = kin.points;
+  bbar = kin.bbar;
+  double det_min = INFINITY, mean_trace = 0;
+  Vec3 mean_fg[max_cell_nodes];
+  for (int a = 0; a < n; ++a) mean_fg[a] = Vec3::Zero();
+  for (int q = 0; q < points; ++q) {
+    F[q] = Mat3::Identity() + kin.gradient(q, du);
+    J[q] = F[q].determinant();
+    det_min = std::min(det_min, J[q]);
+    F_inv[q] = F[q].inverse();
+    const Mat3 e = 0.5 * (F[q].transpose() * F[q] - Mat3::Identity());
+    E[q] = voigt_of(e, 2);
+    if (!bbar) continue;
+    mean_trace += kin.dv[q] * e.trace();
+    const double* g = kin.grad(q);
+    for (int a = 0; a < n; ++a)
+      mean_fg[a] += kin.dv[q] * F[q] * Vec3(g[3 * a], g[3 * a + 1], g[3 * a + 2]);
+  }
+  if (!bbar || !(det_min > 0)) return det_min;
+  mean_trace /= kin.volume;
+  for (int a = 0; a < n; ++a) mean_fg[a] /= kin.volume;
+  for (int q = 0; q < points; ++q) {
+    const double shift = (mean_trace - (E[q][0] + E[q][1] + E[q][2])) / 3;
+    for (int i = 0; i < 3; ++i) E[q][i] += shift;
+    const double* g = kin.grad(q);
+    double* cq = &c[static_cast<std::size_t>(q) * 3 * n];
+    for (int a = 0; a < n; ++a) {
+      const Vec3 ca = F_inv[q] * mean_fg[a] - Vec3(g[3 * a], g[3 * a + 1], g[3 * a + 2]);
+      for (int i = 0; i < 3; ++i) cq[3 * a + i] = ca[i];
+    }
+  }
+  return det_min;
+}
+
+void CellDeformation::add_force(const CellKinematics& kin, int q, const Voigt& S, double w,
+                                double* f) const {
+  const Mat3 s = tensor_of(S, 1), fs = w * F[q] * s;
+  const double p = w * (S[0] + S[1] + S[2]) / 3;
+  const double* g = kin.grad(q);
+  for (int a = 0; a < n; ++a) {
+    Vec3 v = fs * Vec3(g[3 * a], g[3 * a + 1], g[3 * a + 2]);
+    if (bbar) v += p * (F[q] * Vec3(corr(q)[3 * a], corr(q)[3 * a + 1], corr(q)[3 * a + 2]));
+    for (int i = 0; i < 3; ++i) f[3 * a + i] += v[i];
+  }
+}
+
+Voigt CellDeformation::cauchy(int q, const Voigt& S) const {
+  return voigt_of(F[q] * tensor_of(S, 1) * F[q].transpose() / J[q], 1);
+}
+
+Voigt CellDeformation::second_piola(int q, const Voigt& sigma) const {
+  return voigt_of(J[q] * F_inv[q] * tensor_of(sigma, 1) * F_inv[q].transpose(), 1);
+}
+
+Mat3 CellDeformation::rotation(int q) const {
+  const Eigen::JacobiSVD<Mat3> svd(F[q], Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU() * svd.matrixV().transpose();
 }
 
 namespace {

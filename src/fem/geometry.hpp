@@ -84,18 +84,39 @@ struct CellKinematics {
   Mat3 gradient(int q, const double* u) const;
 };
 
-/// The incremental rotation of Hughes and Winget ("Finite rotation effects in numerical
-/// integration of rate constitutive equations arising in large-deformation analysis", IJNME
-/// 15, 1980) for the gradient L = ∂Δu/∂x of a step's displacement increment on the step's
-/// midpoint configuration: R = (I − W/2)⁻¹(I + W/2), W = (L − Lᵀ)/2. R is orthogonal for any
-/// W, and for a rigid rotation Q of the step it is Q exactly (L is then the Cayley transform
-/// of Q, whose symmetric part, the strain increment, is zero).
-Mat3 hughes_winget_rotation(const Mat3& L);
+/// The deformation of one step on a cell (solver.geometry: updated), in the updated
+/// Lagrangian form of Bathe (Finite Element Procedures, 1996, sec. 6.2.3): `kin` holds the
+/// cell's kinematics on the configuration x at the step's start, Δu the step's nodal
+/// displacements, F = I + ∂Δu/∂x at each point. The step's strain is the Green–Lagrange
+/// strain E = (FᵀF − I)/2 relative to x, zero for a rigid motion of any size; the stress the
+/// point law returns is the second Piola–Kirchhoff stress S relative to x, the Cauchy stress
+/// is J⁻¹ F S Fᵀ, and the internal forces are ∫ F S ∇N_a dx, the exact ones at t + Δt pulled
+/// back to x. For B-bar cells the trace of E takes the cell's mean, as the small strain's does
+/// (CellKinematics), so that its variation is B̄_L, with the corrections
+/// c_a = F⁻¹ d̄_a − ∇N_a, d̄_a the cell's mean of F ∇N_a:  δĒ = B(∇N_a + c_a/3 in the trace)·Fᵀδu_a.
+struct CellDeformation {
+  int n = 0, points = 0;
+  bool bbar = false;
+  std::array<Mat3, max_cell_points> F, F_inv;
+  std::array<double, max_cell_points> J{};
+  std::array<Voigt, max_cell_points> E;  ///< (B-bar) Green strain, engineering shears
+  std::array<double, 3 * max_cell_nodes * max_cell_points> c{};  ///< B-bar corrections c_a
+
+  /// Everything for the nodal displacements du of the step; returns the smallest det F (≤ 0:
+  /// the cell turned inside out).
+  double compute(const CellKinematics& kin, const double* du);
+  const double* corr(int q) const { return &c[static_cast<std::size_t>(q) * 3 * n]; }
+  /// f_a += w·F(S∇N_a + tr(S)/3·c_a): the internal force of S at point q.
+  void add_force(const CellKinematics& kin, int q, const Voigt& S, double w, double* f) const;
+  /// J⁻¹ F S Fᵀ and its inverse J F⁻¹ σ F⁻ᵀ.
+  Voigt cauchy(int q, const Voigt& S) const;
+  Voigt second_piola(int q, const Voigt& sigma) const;
+  /// The rotation R of the polar decomposition F = R U.
+  Mat3 rotation(int q) const;
+};
 
 /// The symmetric tensor of a stress-like Voigt vector s (tensor shears).
 Mat3 stress_tensor(const Voigt& s);
-/// R s Rᵀ for a stress-like Voigt vector s (tensor shears).
-Voigt rotate_stress(const Mat3& R, const Voigt& s);
 /// R e Rᵀ for a strain-like Voigt vector e (engineering shears).
 Voigt rotate_strain(const Mat3& R, const Voigt& e);
 

@@ -20,8 +20,7 @@ namespace {
 const std::vector<std::string> solver_keys = {
     "scheme",    "curve_form",   "steps",       "end",           "times",    "max_iterations",
     "tolerance", "relaxation",   "correction",  "cutback",       "linear",   "mechanism_limit",
-    "predictor", "acceleration", "line_search", "petsc_options", "geometry", "correction_form",
-    "geometric_stiffness"};
+    "predictor", "acceleration", "line_search", "petsc_options", "geometry", "correction_form"};
 // clang-format on
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
@@ -174,8 +173,6 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
     s.line_search = r.choice(*x, auto_none, "line search setting") == "auto";
   if (auto x = m.get("geometry"))
     s.updated_geometry = r.choice(*x, geometries, "geometry") == "updated";
-  if (auto x = m.get("geometric_stiffness"))
-    s.geometric_stiffness = r.choice(*x, auto_none, "geometric stiffness setting") == "auto";
   if (auto x = m.get("correction_form"))
     s.correction_current = r.choice(*x, correction_forms, "correction form") == "current";
   if (auto x = m.get("linear")) {

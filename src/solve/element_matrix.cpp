@@ -3,84 +3,151 @@
 #include "fem/reference_element.hpp"
 
 namespace hencky {
+namespace {
+
+/// B̄ᵀCB̄ of one point into the upper blocks (b ≥ a) of ke (nd × nd): gradients dNdx, B-bar
+/// corrections corr (nullptr: none), C = D + dev_scale·2G·I_dev + coef·v vᵀ of the tangent t
+/// (material/plastic_point.hpp) at constants k, weight w.
+void add_material_part(int n, const double* dNdx, const double* corr, const Tangent& t,
+                       const ElasticConstants& k, double w, double* ke) {
+  const int nd = 3 * n;
+  Vec3 bv[max_cell_nodes];
+  const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
+  if (t.coef != 0) {
+    // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
+    const Voigt& v = t.v;
+    for (int a = 0; a < n; ++a) {
+      const double* g = dNdx + 3 * a;
+      bv[a] = Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5], g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
+                   g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
+    }
+    const double cw = t.coef * w;
+    for (int a = 0; a < n; ++a)
+      for (int bb = a; bb < n; ++bb)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
+  }
+  if (corr) {
+    // B̄_a = B_a + (1/3) m d_aᵀ: K_ab gains (1/3)(B_aᵀCm) d_bᵀ + (1/3) d_a (B_bᵀCm)ᵀ
+    // + (1/9)(mᵀCm) d_a d_bᵀ, with Cm = C·(1, 1, 1, 0, 0, 0).
+    Voigt m_vec;
+    m_vec << 1, 1, 1, 0, 0, 0;
+    const Voigt cm = t.times(k, m_vec) * w;
+    const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
+    const double* dq = corr;
+    for (int a = 0; a < n; ++a) {
+      const double* g = dNdx + 3 * a;
+      bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
+                   g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
+                   g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
+              3;
+    }
+    for (int a = 0; a < n; ++a)
+      for (int bb = a; bb < n; ++bb)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
+                                                 dq[3 * a + i] * bv[bb][j] +
+                                                 mcm * dq[3 * a + i] * dq[3 * bb + j];
+  }
+  // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
+  for (int a = 0; a < n; ++a) {
+    const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+    for (int bb = a; bb < n; ++bb) {
+      const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
+      const double dot = mu * ga.dot(gb);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const double v = lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
+          ke[(3 * a + i) * nd + 3 * bb + j] += v;
+        }
+    }
+  }
+}
+
+/// The tangent of the updated Lagrangian step (CellDeformation) at the iterate `trial` from
+/// the step's start `start`: per point F·(B̄ᵀCB̄ at the corrected gradients)·Fᵀ, C the
+/// scheme's dS/dE, and the initial-stress part ∫(∇N_a·S∇N_b) I of the iterate's S, with for
+/// B-bar cells the second variation of the mean trace. This is the derivative of
+/// CellDeformation::add_force when C is: newton's matrix is consistent, and symmetric.
+void updated_matrix(const Model& m, const State& start, const State& trial,
+                    const std::vector<Tangent>& tangents, const CellKinematics& kin,
+                    std::span<const int> nodes, int e, CellBuffers& b) {
+  const int n = kin.n, nd = 3 * n;
+  const bool plastic = m.material_of(e).plastic();
+  const Tangent elastic;
+  double du[3 * max_cell_nodes];
+  for (int a = 0; a < n; ++a)
+    for (int d = 0; d < 3; ++d)
+      du[3 * a + d] = trial.u[3 * nodes[a] + d] - start.u[3 * nodes[a] + d];
+  CellDeformation& def = thread_deformation();
+  def.compute(kin, du);
+  thread_local std::vector<double> kq;
+  kq.resize(static_cast<std::size_t>(nd) * nd);
+  double gg_mean[max_cell_nodes][max_cell_nodes] = {};  // the mean of g_a·g_b (B-bar)
+  double p_mean = 0;
+  for (int q = 0; q < kin.points; ++q) {
+    const double w = kin.dv[q];
+    const double* g = kin.grad(q);
+    const int p = m.point_offset(e) + q;
+    std::fill(kq.begin(), kq.end(), 0.0);
+    add_material_part(n, g, kin.bbar ? def.corr(q) : nullptr, plastic ? tangents[p] : elastic,
+                      trial.constants[p], w, kq.data());
+    const Mat3& F = def.F[q];
+    const Voigt S = def.second_piola(q, trial.stress[p]);
+    const Mat3 s = stress_tensor(S) * w;
+    const double pw = w * (S[0] + S[1] + S[2]) / 3;
+    p_mean += pw;
+    for (int a = 0; a < n; ++a) {
+      const Vec3 ga(g[3 * a], g[3 * a + 1], g[3 * a + 2]);
+      const Vec3 sga = s * ga;
+      for (int bb = a; bb < n; ++bb) {
+        const Vec3 gb(g[3 * bb], g[3 * bb + 1], g[3 * bb + 2]);
+        Mat3 block;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) block(i, j) = kq[(3 * a + i) * nd + 3 * bb + j];
+        double geo = sga.dot(gb);
+        if (kin.bbar) {
+          const double gg = ga.dot(gb);
+          geo -= pw * gg;
+          gg_mean[a][bb] += w * gg;
+        }
+        block = F * block * F.transpose();
+        block.diagonal().array() += geo;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) b.ke[(3 * a + i) * nd + 3 * bb + j] += block(i, j);
+      }
+    }
+  }
+  if (kin.bbar)  // Σ_q w_q p_q · mean(g_a·g_b): the mean trace's second variation
+    for (int a = 0; a < n; ++a)
+      for (int bb = a; bb < n; ++bb)
+        for (int i = 0; i < 3; ++i)
+          b.ke[(3 * a + i) * nd + 3 * bb + i] += p_mean * gg_mean[a][bb] / kin.volume;
+}
+
+}  // namespace
 
 void element_matrix(const Model& m, const State& trial, const std::vector<Tangent>& tangents,
-                    const std::vector<Vec3>& config, const std::vector<Voigt>* initial_stress,
-                    int e, CellBuffers& b) {
+                    const std::vector<Vec3>& config, const State* start, int e, CellBuffers& b) {
   const auto& mesh = m.mesh();
-
   const auto nodes = mesh.cells.nodes(e);
   const int n = static_cast<int>(nodes.size());
   const int nd = 3 * n;
   const bool plastic = m.material_of(e).plastic();
   const Tangent elastic;
-  Vec3 x[max_cell_nodes], bv[max_cell_nodes];
+  Vec3 x[max_cell_nodes];
   for (int a = 0; a < n; ++a) x[a] = config[nodes[a]];
   CellKinematics& kin = thread_kinematics();
   kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, n));
-  for (int q = 0; q < kin.points; ++q) {
-    const double w = kin.dv[q];
-    const double* dNdx = kin.grad(q);
-    const int p = m.point_offset(e) + q;
-    const ElasticConstants& k = trial.constants[p];
-    // C = D + dev_scale·2G·I_dev + coef·v vᵀ (material/plastic_point.hpp): an isotropic
-    // part and, for plastic points, a rank-one part.
-    const Tangent& t = plastic ? tangents[p] : elastic;
-    const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
-    if (t.coef != 0) {
-      // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
-      const Voigt& v = t.v;
-      for (int a = 0; a < n; ++a) {
-        const double* g = dNdx + 3 * a;
-        bv[a] =
-            Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5], g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
-                 g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
-      }
-      const double cw = t.coef * w;
-      for (int a = 0; a < n; ++a)
-        for (int bb = a; bb < n; ++bb)
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              b.ke[(3 * a + i) * nd + 3 * bb + j] += cw * bv[a][i] * bv[bb][j];
-    }
-    if (kin.bbar) {
-      // B̄_a = B_a + (1/3) m d_aᵀ: K_ab gains (1/3)(B_aᵀCm) d_bᵀ + (1/3) d_a (B_bᵀCm)ᵀ
-      // + (1/9)(mᵀCm) d_a d_bᵀ, with Cm = C·(1, 1, 1, 0, 0, 0).
-      Voigt m_vec;
-      m_vec << 1, 1, 1, 0, 0, 0;
-      const Voigt cm = t.times(k, m_vec) * w;
-      const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
-      const double* dq = kin.corr(q);
-      for (int a = 0; a < n; ++a) {
-        const double* g = dNdx + 3 * a;
-        bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
-                     g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
-                     g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
-                3;
-      }
-      for (int a = 0; a < n; ++a)
-        for (int bb = a; bb < n; ++bb)
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              b.ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
-                                                     dq[3 * a + i] * bv[bb][j] +
-                                                     mcm * dq[3 * a + i] * dq[3 * bb + j];
-    }
-    // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I); with an
-    // initial stress σ0 also (g_a·σ0 g_b) I.
-    const Mat3 s0 = initial_stress ? Mat3(stress_tensor((*initial_stress)[p]) * w) : Mat3::Zero();
-    for (int a = 0; a < n; ++a) {
-      const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
-      const Vec3 s0ga = s0 * ga;
-      for (int bb = a; bb < n; ++bb) {
-        const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
-        const double dot = mu * ga.dot(gb) + s0ga.dot(gb);
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            const double v = lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
-            b.ke[(3 * a + i) * nd + 3 * bb + j] += v;
-          }
-      }
+  if (start) {
+    updated_matrix(m, *start, trial, tangents, kin, nodes, e, b);
+  } else {
+    for (int q = 0; q < kin.points; ++q) {
+      const int p = m.point_offset(e) + q;
+      add_material_part(n, kin.grad(q), kin.bbar ? kin.corr(q) : nullptr,
+                        plastic ? tangents[p] : elastic, trial.constants[p], kin.dv[q], b.ke);
     }
   }
   // Lower blocks by symmetry.

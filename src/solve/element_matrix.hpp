@@ -16,20 +16,20 @@ inline CellKinematics& thread_kinematics() {
   thread_local CellKinematics kin;
   return kin;
 }
-/// A second one, for the midpoint configuration of an updated-geometry step.
-inline CellKinematics& thread_kinematics_midpoint() {
-  thread_local CellKinematics kin;
-  return kin;
+/// The same for a cell's deformation in an updated-geometry step (about 25 kB).
+inline CellDeformation& thread_deformation() {
+  thread_local CellDeformation def;
+  return def;
 }
 
 /// The matrix of cell e for the iterate's tangents into b.ke (zeroed by the caller): B̄ᵀCB̄
 /// over the cell's points, C = tangents[p] at the points of plastic materials (the scheme's
 /// matrix), the elastic D at the others.
-/// x: the coordinates the step is written on (PointPass::update); initial_stress: σ(t) per
-/// point for the initial-stress (geometric) part ∫(∇N_a·σ(t)∇N_b) I of an updated-geometry
-/// step, or nullptr.
+/// x: the coordinates the step is written on (PointPass::update); start: under
+/// `geometry: updated`, the state at the step's start, whose displacements the step's
+/// deformation is measured from (the matrix is then that of the updated Lagrangian step,
+/// with its initial-stress part), else nullptr.
 void element_matrix(const Model& m, const State& trial, const std::vector<Tangent>& tangents,
-                    const std::vector<Vec3>& x, const std::vector<Voigt>* initial_stress, int e,
-                    CellBuffers& b);
+                    const std::vector<Vec3>& x, const State* start, int e, CellBuffers& b);
 
 }  // namespace hencky

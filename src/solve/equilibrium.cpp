@@ -98,7 +98,6 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
       plastic_ && m.spec().solver.line_search && scheme_->kind() == SchemeKind::variable_stiffness;
   if (plastic_) model_size_ = model_size(m.mesh());
   updated_ = m.spec().solver.updated_geometry;
-  geometric_ = updated_ && m.spec().solver.geometric_stiffness;
   x_ = m.mesh().x;
   if (m.has_temperature())
     for (const auto& mat : m.materials())
@@ -284,8 +283,8 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   // with P and ∫Bᵀσ(t) on x_ and R(t) = ⁽ᵗ⁾P + ⁽ᵗ⁾F_contact − ∫Bᵀσ(t), the defect the previous
   // step left: on the configuration of the step before, as that step computed it (2.30; the
   // state keeps f_ext and f_int as their step computed them), or on x_ (2.31,
-  // correction_form: current). The iterate's F_int (PointPass::update) is ∫Bᵀσ on x_ plus,
-  // with geometric_stiffness, the first-order change of σ(t)'s forces as x_ moves by Δu. On
+  // correction_form: current). The iterate's F_int (PointPass::update) is ∫F S ∇N dx on
+  // x_, the internal force of σ(t+Δt) on its own configuration pulled back to x_. On
   // the undeformed mesh both forms are c's own figures and the target is
   // F(t+Δt) − (1 − γ)·R(t): with γ = 1 the defect is corrected in full. The supports' forces
   // of the step are part of the residual (residual_vector), so that R(t) carries ⁽ᵗ⁾F as
@@ -477,8 +476,13 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   const auto& dofs = m_.dofs();
   const auto& spec = m_.spec().solver;
   const MatrixPolicy policy = scheme_->matrix_policy();
+  // Under `geometry: updated` the matrix is that of the step's configuration, rebuilt at each
+  // step's start, and for the schemes whose matrix follows the iterate (newton,
+  // variable-stiffness) at every iteration: the iterate's deformation and stress enter it
+  // (updated_matrix, element_matrix.cpp), also for elastic points.
   const bool new_elements =
       !factorized_ || (iteration == 0 && (matrix_changes_with_temperature_ || updated_)) ||
+      (updated_ && policy == MatrixPolicy::per_iteration) ||
       (ev.points.tangent_changed && (policy == MatrixPolicy::per_iteration ||
                                      (policy == MatrixPolicy::per_step && iteration <= 1)));
   if (mix_ && mixed_last_ && residual > 2 * previous_residual) {
@@ -714,11 +718,11 @@ void Equilibrium::remember_increment(const State& c, const State& trial) {
 /// and factorizes it.
 void Equilibrium::assemble_and_factorize(const State& c, const State& trial, bool new_elements) {
   auto t0 = Clock::now();
-  const std::vector<Voigt>* initial = geometric_ ? &c.stress : nullptr;
+  const State* start = updated_ ? &c : nullptr;
   if (new_elements || !contact_.active() || !system_.restore_cells()) {
     const auto& tangents = points_.tangents();
     system_.assemble_cells(
-        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x_, initial, e, b); });
+        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x_, start, e, b); });
     if (contact_.active()) system_.keep_cells();
   }
   if (contact_.active())

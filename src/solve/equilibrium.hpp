@@ -94,7 +94,6 @@ class Equilibrium {
   bool updated_ = false;
   std::vector<Vec3> x_;
   std::vector<double> loads_at_t_, forces_at_t_;  ///< P and ∫Bᵀσ(t) on x_ (updated)
-  bool geometric_ = false;                        ///< solver.geometric_stiffness under `updated`
   bool factorized_ = false;
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;

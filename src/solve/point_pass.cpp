@@ -90,17 +90,16 @@ void PointPass::begin_step(const State& c, const State& trial) {
 
 /// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
 /// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
-/// Under `geometry: updated` x is the configuration at t: the internal forces are integrated
-/// over it; the strain increment and the rotation R of Hughes and Winget come from the
-/// gradient of Δu on the midpoint configuration x + Δu/2. The point law works in the frame of
-/// the start of the step, on Rᵀ Δε R, and its stress, plastic strain and matrix are turned
-/// forward by R: the same as rotating σ(t) and ε^p(t) first for an isotropic law, and it keeps
-/// the step's flow direction Z of σ(t) valid.
+/// Under `geometry: updated` x is the configuration at t and the step is the updated
+/// Lagrangian one of CellDeformation (src/fem/geometry.hpp): the point law takes the Green
+/// strain of the step relative to x for Δε and σ(t) for its start, and returns S, the second
+/// Piola–Kirchhoff stress relative to x; the stress kept is the Cauchy stress J⁻¹FSFᵀ and the
+/// plastic strain turns with the rotation of F. The step's flow direction Z of σ(t) stays
+/// valid: the law works in the frame of x.
 PointPassResult PointPass::update(const State& c, State& trial, const std::vector<Vec3>& config,
                                   bool elastic) {
   const auto& mesh = m_.mesh();
   const bool updated = m_.spec().solver.updated_geometry;
-  const bool geometric = updated && m_.spec().solver.geometric_stiffness;
   trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
   std::atomic<bool> changed{false};
   std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1}, inverted_cell{-1};
@@ -125,30 +124,19 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
         }
         const ReferenceTable& table = reference_table(mesh.cells.type[e]);
         CellKinematics& kin = thread_kinematics();
-        double det = kin.compute(table, std::span<const Vec3>(x, n));
-        const CellKinematics* mid = &kin;  // where Δε and R are taken
-        if (updated) {
-          for (int a = 0; a < n; ++a) x[a] += 0.5 * Vec3(du[3 * a], du[3 * a + 1], du[3 * a + 2]);
-          CellKinematics& km = thread_kinematics_midpoint();
-          det = std::min(det, km.compute(table, std::span<const Vec3>(x, n)));
-          mid = &km;
-          // A cell turned inside out at t or halfway through the step has no strain: the
-          // step fails (Equilibrium::evaluate) and is cut back. The undeformed mesh was
-          // checked when the model was made.
-          if (!(det > 0)) {
-            int none = -1;
-            inverted_cell.compare_exchange_strong(none, e);
-            return;
-          }
+        kin.compute(table, std::span<const Vec3>(x, n));
+        CellDeformation& def = thread_deformation();
+        // A cell turned inside out by the iterate has no strain: the step fails
+        // (Equilibrium::evaluate) and is cut back. The undeformed mesh was checked when the
+        // model was made, and each step's start is a converged iterate.
+        if (updated && !(def.compute(kin, du) > 0)) {
+          int none = -1;
+          inverted_cell.compare_exchange_strong(none, e);
+          return;
         }
         for (int q = 0; q < kin.points; ++q) {
           const int p = m_.point_offset(e) + q;
-          Voigt d_eps = mid->strain(q, du);
-          Mat3 R;
-          if (updated) {
-            R = hughes_winget_rotation(mid->gradient(q, du));
-            d_eps = rotate_strain(R.transpose(), d_eps);  // into the frame of the step's start
-          }
+          const Voigt d_eps = updated ? def.E[q] : kin.strain(q, du);
           if (!plastic || elastic) {
             trial.stress[p] =
                 elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
@@ -178,7 +166,6 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
               int none = -1;
               negative_secant_cell.compare_exchange_strong(none, e);
             }
-            if (updated) u.tangent.v = rotate_stress(R, u.tangent.v);
             trial.stress[p] = u.sigma;
             trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
             trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
@@ -190,22 +177,12 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
             set_tangent(p, u.tangent);
           }
           if (updated) {
-            trial.stress[p] = rotate_stress(R, trial.stress[p]);
-            if (plastic) trial.plastic_strain[p] = rotate_strain(R, trial.plastic_strain[p]);
-          }
-          kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
-          if (geometric) {
-            // The change of the internal forces of σ(t) with the configuration, to first order
-            // in Δu (the derivative of ∫∇v:σ dΩ over x_t + Δu): on node a, with L = ∂Δu/∂x on x_t,
-            //   ∫ σ(t) (tr L·I − Lᵀ) ∇N_a dΩ.
-            const Mat3 L = kin.gradient(q, du);
-            const Mat3 sl = stress_tensor(c.stress[p]) *
-                            (L.trace() * Mat3::Identity() - L.transpose()) * kin.dv[q];
-            const double* g = kin.grad(q);
-            for (int a = 0; a < n; ++a)
-              for (int i = 0; i < 3; ++i)
-                b.fe[3 * a + i] +=
-                    sl(i, 0) * g[3 * a] + sl(i, 1) * g[3 * a + 1] + sl(i, 2) * g[3 * a + 2];
+            def.add_force(kin, q, trial.stress[p], kin.dv[q], b.fe);
+            trial.stress[p] = def.cauchy(q, trial.stress[p]);
+            if (plastic)
+              trial.plastic_strain[p] = rotate_strain(def.rotation(q), trial.plastic_strain[p]);
+          } else {
+            kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
           }
         }
       },

@@ -257,11 +257,6 @@ struct SolverSpec {
   /// its start, X + u(t), the report's ^(t)Ω, with the stress rotated objectively
   /// (Hughes–Winget; docs/schemes.md, "Updated geometry").
   bool updated_geometry = false;
-  /// `geometric_stiffness: auto | none` (updated geometry only): `auto` adds to each step's
-  /// equations the first-order change of the internal forces of σ(t) with the configuration
-  /// (and its symmetric initial-stress matrix); `none` is (2.27) as written, whose steps are
-  /// stable only while the geometric stiffness stays below the material one (docs/schemes.md).
-  bool geometric_stiffness = true;
   /// `correction_form: previous | current`: R of the correction integrated over the
   /// configuration of the step before, (2.30), as the report chooses (the default), or over
   /// the configuration at t, (2.31). The same under `geometry: small`.
