@@ -16,6 +16,7 @@ them.
 Debian's ParaView renders through X only (--force-offscreen-rendering crashes without a
 display), so without $DISPLAY the script runs itself again under `xvfb-run` (package xvfb);
 equivalently: xvfb-run -a -s "-screen 0 1920x1080x24" pvpython scripts/render.py ...
+scripts/setup-plots.sh installs ParaView (paraview, python3-paraview) and xvfb from Debian.
 """
 import argparse
 import math
@@ -69,7 +70,7 @@ def rerun_under_xvfb(args):
     xvfb = shutil.which("xvfb-run")
     pv = shutil.which("pvpython") or shutil.which("pvbatch")
     if not xvfb or not pv:
-        print("error: no X display and no xvfb-run (apt-get install xvfb) to make one",
+        print("error: no X display and no xvfb-run to make one (scripts/setup-plots.sh installs it)",
               file=sys.stderr)
         sys.exit(1)
     screen = "-screen 0 %dx%dx24" % (max(args.size[0], 640), max(args.size[1], 480))
