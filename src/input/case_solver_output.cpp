@@ -172,7 +172,7 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
   if (auto x = m.get("line_search"))
     s.line_search = r.choice(*x, auto_none, "line search setting") == "auto";
   if (auto x = m.get("geometry"))
-    s.updated_geometry = r.choice(*x, geometries, "geometry") == "updated";
+    s.updated_geometry = r.choice(*x, geometries, "geometry setting") == "updated";
   if (auto x = m.get("correction_form"))
     s.correction_current = r.choice(*x, correction_forms, "correction form") == "current";
   if (auto x = m.get("linear")) {

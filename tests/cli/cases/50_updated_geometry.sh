@@ -169,3 +169,18 @@ for scheme in newton initial-strain initial-strain-stiffness variable-stiffness;
   ex_check "updated, heated-bar, $scheme: sigma_zz within 1 % of the closed form" "$h" \
     'close(at(1)["centre.stress.zz"], -254.65e6, 1e-2)'
 done
+
+# --- The keys refuse what they do not know, naming the key and the choices; nothing is written.
+d="$work/updated/bad-keys"
+rm -rf "$d"
+mkdir -p "$d"
+cp "$src/tests/cli/inputs/updated/rotation"/* "$d/"
+sed "s/^  geometry: updated$/  geometry: large/" "$d/case.yaml" >"$d/geometry.yaml"
+expect "geometry: large is refused, naming the key and the choices" 1 \
+  "geometry.yaml:[0-9]+:[0-9]+: .solver.geometry.: unknown geometry setting .large.; valid geometry settings: .small., .updated." -- \
+  run "$d/geometry.yaml"
+sed "s/^  geometry: updated$/&\n  correction_form: next/" "$d/case.yaml" >"$d/form.yaml"
+expect "correction_form: next is refused, naming the key and the choices" 1 \
+  "form.yaml:[0-9]+:[0-9]+: .solver.correction_form.: unknown correction form .next.; valid correction forms: .previous., .current." -- \
+  run "$d/form.yaml"
+if [ -e "$d/geometry.out" ] || [ -e "$d/form.out" ]; then bad "a refused case wrote an output folder"; else ok "refused cases wrote nothing"; fi
