@@ -253,9 +253,9 @@ struct SolverSpec {
   /// along it (Equilibrium::line_search); `none` takes the corrections whole, as the report.
   bool line_search = true;
   /// `geometry: small | updated`. `small` (the default): every step on the undeformed mesh.
-  /// `updated`: each step's matrix, internal forces and face loads on the configuration at
-  /// its start, X + u(t), the report's ^(t)Ω, with the stress rotated objectively
-  /// (Hughes–Winget; docs/schemes.md, "Updated geometry").
+  /// `updated`: each step on the configuration at its start, X + u(t), the report's ^(t)Ω,
+  /// in updated Lagrangian form (CellDeformation: the step's Green strain, exact internal
+  /// forces, objective stresses; docs/schemes.md, "Updated geometry").
   bool updated_geometry = false;
   /// `correction_form: previous | current`: R of the correction integrated over the
   /// configuration of the step before, (2.30), as the report chooses (the default), or over
