@@ -7,19 +7,23 @@ namespace {
 
 /// B̄ᵀCB̄ of one point into the upper blocks (b ≥ a) of ke (nd × nd): gradients dNdx, B-bar
 /// corrections corr (nullptr: none), C = D + dev_scale·2G·I_dev + coef·v vᵀ of the tangent t
-/// (material/plastic_point.hpp) at constants k, weight w.
+/// (material/plastic_point.hpp) at constants k, weight w. With F (the updated Lagrangian step,
+/// whose B̄_L = B̄·Fᵀ) each block is F·K_ab·Fᵀ: every term of K_ab is an outer product u_a w_bᵀ
+/// of per-node vectors, or a multiple of I, so the vectors are turned by F and I becomes FFᵀ.
 void add_material_part(int n, const double* dNdx, const double* corr, const Tangent& t,
-                       const ElasticConstants& k, double w, double* ke) {
+                       const ElasticConstants& k, double w, const Mat3* F, double* ke) {
   const int nd = 3 * n;
-  Vec3 bv[max_cell_nodes];
+  const auto turn = [&](const Vec3& v) { return F ? Vec3(*F * v) : v; };
+  Vec3 bv[max_cell_nodes], dv[max_cell_nodes];
   const double lam = t.lambda(k) * w, mu = t.mu(k) * w;
   if (t.coef != 0) {
     // B_aᵀv per node; K_ab += coef·(B_aᵀv)(B_bᵀv)ᵀ.
     const Voigt& v = t.v;
     for (int a = 0; a < n; ++a) {
       const double* g = dNdx + 3 * a;
-      bv[a] = Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5], g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
-                   g[2] * v[2] + g[1] * v[3] + g[0] * v[4]);
+      bv[a] = turn(Vec3(g[0] * v[0] + g[2] * v[4] + g[1] * v[5],
+                        g[1] * v[1] + g[2] * v[3] + g[0] * v[5],
+                        g[2] * v[2] + g[1] * v[3] + g[0] * v[4]));
     }
     const double cw = t.coef * w;
     for (int a = 0; a < n; ++a)
@@ -35,32 +39,32 @@ void add_material_part(int n, const double* dNdx, const double* corr, const Tang
     m_vec << 1, 1, 1, 0, 0, 0;
     const Voigt cm = t.times(k, m_vec) * w;
     const double mcm = (cm[0] + cm[1] + cm[2]) / 9;
-    const double* dq = corr;
     for (int a = 0; a < n; ++a) {
       const double* g = dNdx + 3 * a;
-      bv[a] = Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
-                   g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
-                   g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
-              3;
+      bv[a] = turn(Vec3(g[0] * cm[0] + g[2] * cm[4] + g[1] * cm[5],
+                        g[1] * cm[1] + g[2] * cm[3] + g[0] * cm[5],
+                        g[2] * cm[2] + g[1] * cm[3] + g[0] * cm[4]) /
+                   3);
+      dv[a] = turn(Vec3(corr[3 * a], corr[3 * a + 1], corr[3 * a + 2]));
     }
     for (int a = 0; a < n; ++a)
       for (int bb = a; bb < n; ++bb)
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j)
-            ke[(3 * a + i) * nd + 3 * bb + j] += bv[a][i] * dq[3 * bb + j] +
-                                                 dq[3 * a + i] * bv[bb][j] +
-                                                 mcm * dq[3 * a + i] * dq[3 * bb + j];
+            ke[(3 * a + i) * nd + 3 * bb + j] +=
+                bv[a][i] * dv[bb][j] + dv[a][i] * bv[bb][j] + mcm * dv[a][i] * dv[bb][j];
   }
   // K_ab = B_aᵀ D B_b for isotropic D: λ g_a g_bᵀ + μ (g_b g_aᵀ + (g_a·g_b) I).
+  const Mat3 ffT = F ? Mat3(*F * F->transpose()) : Mat3::Identity();
   for (int a = 0; a < n; ++a) {
-    const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+    const Vec3 ga0(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]), ga = turn(ga0);
     for (int bb = a; bb < n; ++bb) {
-      const Vec3 gb(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]);
-      const double dot = mu * ga.dot(gb);
+      const Vec3 gb0(dNdx[3 * bb], dNdx[3 * bb + 1], dNdx[3 * bb + 2]), gb = turn(gb0);
+      const double dot = mu * ga0.dot(gb0);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
-          const double v = lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? dot : 0.0);
-          ke[(3 * a + i) * nd + 3 * bb + j] += v;
+          const double identity = F ? dot * ffT(i, j) : (i == j ? dot : 0.0);
+          ke[(3 * a + i) * nd + 3 * bb + j] += lam * ga[i] * gb[j] + mu * gb[i] * ga[j] + identity;
         }
     }
   }
@@ -83,18 +87,15 @@ void updated_matrix(const Model& m, const State& start, const State& trial,
       du[3 * a + d] = trial.u[3 * nodes[a] + d] - start.u[3 * nodes[a] + d];
   CellDeformation& def = thread_deformation();
   def.compute(kin, du);
-  thread_local std::vector<double> kq;
-  kq.resize(static_cast<std::size_t>(nd) * nd);
   double gg_mean[max_cell_nodes][max_cell_nodes] = {};  // the mean of g_a·g_b (B-bar)
   double p_mean = 0;
   for (int q = 0; q < kin.points; ++q) {
     const double w = kin.dv[q];
     const double* g = kin.grad(q);
     const int p = m.point_offset(e) + q;
-    std::fill(kq.begin(), kq.end(), 0.0);
     add_material_part(n, g, kin.bbar ? def.corr(q) : nullptr, plastic ? tangents[p] : elastic,
-                      trial.constants[p], w, kq.data());
-    const Mat3& F = def.F[q];
+                      trial.constants[p], w, &def.F[q], b.ke);
+    // The initial-stress part (∇N_a·S∇N_b) I of the iterate's S.
     const Voigt S = def.second_piola(q, trial.stress[p]);
     const Mat3 s = stress_tensor(S) * w;
     const double pw = w * (S[0] + S[1] + S[2]) / 3;
@@ -104,19 +105,13 @@ void updated_matrix(const Model& m, const State& start, const State& trial,
       const Vec3 sga = s * ga;
       for (int bb = a; bb < n; ++bb) {
         const Vec3 gb(g[3 * bb], g[3 * bb + 1], g[3 * bb + 2]);
-        Mat3 block;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) block(i, j) = kq[(3 * a + i) * nd + 3 * bb + j];
         double geo = sga.dot(gb);
         if (kin.bbar) {
           const double gg = ga.dot(gb);
           geo -= pw * gg;
           gg_mean[a][bb] += w * gg;
         }
-        block = F * block * F.transpose();
-        block.diagonal().array() += geo;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) b.ke[(3 * a + i) * nd + 3 * bb + j] += block(i, j);
+        for (int i = 0; i < 3; ++i) b.ke[(3 * a + i) * nd + 3 * bb + i] += geo;
       }
     }
   }
@@ -147,7 +142,8 @@ void element_matrix(const Model& m, const State& trial, const std::vector<Tangen
     for (int q = 0; q < kin.points; ++q) {
       const int p = m.point_offset(e) + q;
       add_material_part(n, kin.grad(q), kin.bbar ? kin.corr(q) : nullptr,
-                        plastic ? tangents[p] : elastic, trial.constants[p], kin.dv[q], b.ke);
+                        plastic ? tangents[p] : elastic, trial.constants[p], kin.dv[q], nullptr,
+                        b.ke);
     }
   }
   // Lower blocks by symmetry.
