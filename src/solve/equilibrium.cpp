@@ -279,7 +279,7 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   if (plastic_) points_.begin_step(c, trial);
   if (contact_.active()) contact_.begin(c, trial);
   // Equilibrium target of the step, (2.29)-(2.30). The step's equation is written on x_:
-  //   ∫Bᵀ(σ − σ(t)) [+ the initial-stress term] = P(t+Δt) − P(t) + ΔF_contact + γ·R(t),
+  //   F_int − ∫Bᵀσ(t) = P(t+Δt) − P(t) + ΔF_contact + γ·R(t),
   // with P and ∫Bᵀσ(t) on x_ and R(t) = ⁽ᵗ⁾P + ⁽ᵗ⁾F_contact − ∫Bᵀσ(t), the defect the previous
   // step left: on the configuration of the step before, as that step computed it (2.30; the
   // state keeps f_ext and f_int as their step computed them), or on x_ (2.31,
@@ -303,6 +303,8 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   const std::vector<double>& loads_r = current ? *loads : c.f_ext;  // those of R(t)
   const std::vector<double>& forces_r = current ? *forces : c.f_int;
   target_.resize(dofs.n_dofs());
+  // On the undeformed mesh loads == c.f_ext and forces == c.f_int: the general form reduces to
+  // the second, which is kept as written so that small-geometry results stay bit for bit.
   for (int i = 0; i < dofs.n_dofs(); ++i)
     target_[i] = updated_
                      ? trial.f_ext[i] - ((*loads)[i] + c.f_contact[i] - (*forces)[i]) +

@@ -41,7 +41,7 @@ class PointPass {
   /// `elastic`: every point of a plastic material too takes the elastic law, with the elastic
   /// matrix, and the scheme's memory is set back to the step's start (the elastic start).
   /// `x`: the nodes' coordinates the step is written on (the mesh's, or X + u(t) under
-  /// `geometry: updated`, where the stress is also rotated with the increment).
+  /// `geometry: updated`, where the step is the updated Lagrangian one of CellDeformation).
   PointPassResult update(const State& c, State& trial, const std::vector<Vec3>& x,
                          bool elastic = false);
   /// The internal forces ∫Bᵀσ of the stresses of s over the configuration x, into f (whole on

@@ -33,11 +33,13 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
     if (!model.holds_points(e)) continue;
     const auto& tab = reference_table(mesh.cells.type[e]);
     const int p0 = model.point_offset(e), n_cell_nodes = static_cast<int>(nodes.size());
-    for (int a = 0; a < n_cell_nodes; ++a) {
-      x[a] = mesh.x[nodes[a]];
-      for (int d = 0; d < 3; ++d) u[3 * a + d] = state.u[3 * nodes[a] + d];
+    if (!updated) {  // the total strain sym ∇u on the undeformed mesh
+      for (int a = 0; a < n_cell_nodes; ++a) {
+        x[a] = mesh.x[nodes[a]];
+        for (int d = 0; d < 3; ++d) u[3 * a + d] = state.u[3 * nodes[a] + d];
+      }
+      kin.compute(tab, std::span<const Vec3>(x, n_cell_nodes));
     }
-    kin.compute(tab, std::span<const Vec3>(x, n_cell_nodes));
     for (int q = 0; q < tab.n_points; ++q) {
       const int p = p0 + q;
       const ElasticConstants& k = state.constants[p];
