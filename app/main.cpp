@@ -125,7 +125,11 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
   std::unique_ptr<LinearSystem> solver;
-  if (int code = together([&] { solver = make_run_solver(*l.model, log, petsc_options); }))
+  std::unique_ptr<HeatSolver> heat;
+  if (int code = together([&] {
+        solver = make_run_solver(*l.model, log, petsc_options);
+        heat = make_heat_solver(*l.model, log, petsc_options);
+      }))
     return code;
   // Root writes every output (the other ranks' shares of the recovered fields are summed to
   // it).
@@ -141,7 +145,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   AnalysisResult result;
   try {
     result = run_analysis(model, *solver, log, timings,
-                          writer ? static_cast<StepObserver&>(*writer) : nothing);
+                          writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get());
   } catch (const InputError&) {
     if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;
@@ -181,7 +185,17 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       {"assembly", timings.assembly}, {"factorization", timings.factorization},
       {"solve", timings.solve},       {"material", timings.material},
       {"output", timings.output},     {"contact", timings.contact},
-      {"total", since(t_start)}};
+      {"heat", timings.heat},         {"total", since(t_start)}};
+  if (heat) {
+    const auto& hs = heat->stats();
+    summary["heat"] = {{"steps", heat->steps()},
+                       {"iterations", heat->iterations()},
+                       {"linear_solver",
+                        {{"method", hs.description},
+                         {"factorizations", hs.n_factorizations},
+                         {"solves", hs.n_solves},
+                         {"iterations", hs.iterations}}}};
+  }
   writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            result.status == AnalysisStatus::converged ? "converged" : "stopped", since(t_start),

@@ -13,7 +13,7 @@
 namespace hencky {
 
 struct Expression::Compiled {
-  double x = 0, y = 0, z = 0, t = 0;  // the parser holds pointers to these
+  double x = 0, y = 0, z = 0, t = 0, T = 0;  // the parser holds pointers to these
   mu::Parser parser;
   Compiled() = default;
   Compiled(const Compiled&) = delete;
@@ -72,12 +72,13 @@ std::size_t find_assignment(const std::string& s) {
 
 }  // namespace
 
-std::unique_ptr<Expression::Compiled> Expression::compile(const std::string& text) {
+std::unique_ptr<Expression::Compiled> Expression::compile(const std::string& text, bool with_T) {
   auto c = std::make_unique<Compiled>();
   c->parser.DefineVar("x", &c->x);
   c->parser.DefineVar("y", &c->y);
   c->parser.DefineVar("z", &c->z);
   c->parser.DefineVar("t", &c->t);
+  if (with_T) c->parser.DefineVar("T", &c->T);
   // The contract's log is the natural logarithm whatever this muparser's built-in does.
   c->parser.DefineFun("log", natural_log);
   c->parser.DefineFun("ln", natural_log);
@@ -93,10 +94,13 @@ Expression::Expression() : text_("0") {}
 Expression::Expression(double value) : value_(value), text_(format_double(value)) {}
 
 Expression::Expression(const Expression& other)
-    : compiled_(other.compiled_ ? compile(other.text_) : nullptr),  // own parser, own variables
+    : compiled_(other.compiled_ ? compile(other.text_, other.with_T_)
+                                : nullptr),  // own parser, own variables
       value_(other.value_),
       uses_t_(other.uses_t_),
       uses_xyz_(other.uses_xyz_),
+      uses_T_(other.uses_T_),
+      with_T_(other.with_T_),
       text_(other.text_),
       where_(other.where_) {}
 
@@ -112,14 +116,17 @@ Expression::Expression(Expression&& other) noexcept = default;
 Expression& Expression::operator=(Expression&& other) noexcept = default;
 Expression::~Expression() = default;
 
-Expression Expression::parse(const std::string& raw, const SourceLocation& where) {
+Expression Expression::parse(const std::string& raw, const SourceLocation& where,
+                             Variables variables) {
   Expression e;
   e.where_ = where;
   e.text_ = raw;
+  e.with_T_ = variables == Variables::with_temperature;
+  const char* variable_names = e.with_T_ ? "x, y, z, t, T" : "x, y, z, t";
   const std::string text = trim(raw);
   if (text.empty())
-    throw InputError(where,
-                     "expected a number or an expression in x, y, z, t, found an empty string");
+    throw InputError(where, std::string("expected a number or an expression in ") +
+                                variable_names + ", found an empty string");
 
   double v = 0;
   if (as_number(text, v)) {
@@ -136,7 +143,7 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
   std::unique_ptr<Compiled> c;
   double value = 0;
   try {
-    c = compile(text);
+    c = compile(text, e.with_T_);
     value = c->parser.Eval();
     if (c->parser.GetNumResults() != 1)
       throw InputError(where, "invalid expression \"" + text + "\": it gives " +
@@ -145,6 +152,8 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
     for (const auto& used : c->parser.GetUsedVar()) {
       if (used.first == "t")
         e.uses_t_ = true;
+      else if (used.first == "T")
+        e.uses_T_ = true;
       else
         e.uses_xyz_ = true;
     }
@@ -153,14 +162,14 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
     if (err.GetCode() == mu::ecUNASSIGNABLE_TOKEN) {  // unknown name
       const std::string hint = did_you_mean(err.GetToken(), known_names());
       if (!hint.empty()) msg += " " + hint;
-      msg +=
-          " (variables: x, y, z, t; functions: sin cos tan asin acos atan sinh cosh tanh exp "
-          "log ln log10 sqrt abs min max; constants: _pi, _e)";
+      msg += std::string(" (variables: ") + variable_names +
+             "; functions: sin cos tan asin acos atan sinh cosh tanh exp "
+             "log ln log10 sqrt abs min max; constants: _pi, _e)";
     }
     throw InputError(where, msg);
   }
 
-  if (!e.uses_t_ && !e.uses_xyz_) {  // fold a constant expression
+  if (!e.uses_t_ && !e.uses_xyz_ && !e.uses_T_) {  // fold a constant expression
     if (!std::isfinite(value))
       throw InputError(where, "the expression \"" + text + "\" evaluates to " +
                                   format_double(value) + ", expected a finite value");
@@ -182,6 +191,11 @@ double Expression::operator()(double x, double y, double z, double t) const {
   } catch (const mu::Parser::exception_type& err) {  // not expected after parse() succeeded
     throw InputError(where_, "cannot evaluate \"" + text_ + "\": " + err.GetMsg());
   }
+}
+
+double Expression::operator()(double x, double y, double z, double t, double T) const {
+  if (compiled_) compiled_->T = T;
+  return (*this)(x, y, z, t);
 }
 
 double Expression::eval_checked(double x, double y, double z, double t, const char* what) const {

@@ -9,7 +9,8 @@ namespace hencky::case_input {
 
 namespace {
 
-const std::vector<std::string> temperature_keys = {"reference", "field"};
+const std::vector<std::string> temperature_keys = {"reference", "field", "from"};
+const std::vector<std::string> temperature_sources = {"heat"};
 const std::vector<std::string> field_file_keys = {"file"};
 const std::vector<std::string> boundary_keys = {"region", "displacement", "pressure", "traction",
                                                 "force"};
@@ -32,7 +33,7 @@ std::span<const KeySection> load_sections() {
 // Temperature
 
 TemperatureSpec read_temperature(const Reader& r, const Val& v) {
-  Map m(r, v, temperature_keys, "a map {reference: ..., field: ...}");
+  Map m(r, v, temperature_keys, "a map {reference: ..., field: ...} or {reference: ..., from: heat}");
   TemperatureSpec t;
   t.given = true;
   t.where = r.at(v);
@@ -40,6 +41,15 @@ TemperatureSpec read_temperature(const Reader& r, const Val& v) {
       r, "reference", "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20");
   t.reference = r.number(reference);
   t.reference_where = r.at(reference);
+  if (auto from = m.get("from")) {
+    if (m.has("field"))
+      throw InputError(r.at(m.key_mark("field"), child_path(v.path, "field")),
+                       "give either 'field' or 'from: heat', not both");
+    r.choice(*from, temperature_sources, "temperature source");
+    t.from_heat = true;
+    t.field_where = r.at(*from);
+    return t;
+  }
   const Val f = m.require(
       r, "field", "the temperature: a number, an expression in x, y, z, t or {file: temps.csv}");
   t.field_where = r.at(f);

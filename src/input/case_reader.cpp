@@ -23,15 +23,16 @@ namespace case_input {
 namespace {
 
 const std::vector<std::string> top_keys = {"title",       "mesh",     "materials",
-                                           "temperature", "boundary", "body_force",
-                                           "contact",     "solver",   "output"};
+                                           "temperature", "heat",     "boundary",
+                                           "body_force",  "contact",  "solver",
+                                           "output"};
 
 /// Every section's keys, in the order the "is a key of ..." hint lists them.
 const std::vector<KeySection>& key_sections() {
   static const std::vector<KeySection> all = [] {
     std::vector<KeySection> s = {{"the top level", &top_keys}};
     for (const auto part : {mesh_material_sections(), plasticity_sections(), load_sections(),
-                            contact_sections(), solver_output_sections()})
+                            contact_sections(), solver_output_sections(), heat_sections()})
       s.insert(s.end(), part.begin(), part.end());
     return s;
   }();
@@ -154,8 +155,11 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
   if (auto x = top.get("contact")) c.contact = read_contact(r, *x);
   c.solver = read_solver(r, top.get("solver"));
   check_strain_form(c);
+  if (auto x = top.get("heat")) c.heat = read_heat(r, *x, c.solver.times);
+  check_heat(r, c);
   c.output = read_output(r, top.get("output"),
-                         c.file.parent_path() / (c.file.stem().string() + ".out"), c.boundary);
+                         c.file.parent_path() / (c.file.stem().string() + ".out"), c.boundary,
+                         c.heat);
 }
 
 }  // namespace

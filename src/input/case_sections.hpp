@@ -22,6 +22,7 @@ std::span<const KeySection> plasticity_sections();     // case_plasticity.cpp
 std::span<const KeySection> load_sections();           // case_loads.cpp
 std::span<const KeySection> contact_sections();        // case_contact.cpp
 std::span<const KeySection> solver_output_sections();  // case_solver_output.cpp
+std::span<const KeySection> heat_sections();           // case_heat.cpp
 
 // ---------------------------------------------------------------------------------------------
 // Mesh and materials (case_mesh_materials.cpp)
@@ -30,7 +31,7 @@ MeshSpec read_mesh(const Reader& r, const Val& v);
 std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has_temperature);
 
 /// Which property a number or table is, for its range check.
-enum class Property { E, nu, alpha, yield, hardening };
+enum class Property { E, nu, alpha, yield, hardening, positive };
 
 /// A number or a table {temperature: [...], value: [...]}; `name` is used in messages.
 PropertyTable read_property(const Reader& r, const Val& v, const std::string& name, Property p);
@@ -48,6 +49,16 @@ TemperatureSpec read_temperature(const Reader& r, const Val& v);
 std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v);
 
 // ---------------------------------------------------------------------------------------------
+// Heat conduction (case_heat.cpp): the heat section, read after the solver section (its steps
+// default to the mechanical ones), and the rules it makes for the materials and the
+// temperature section.
+
+HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical);
+/// A heat section needs temperature: {reference: ..., from: heat} and every material's
+/// conductivity (and density, specific heat when transient); from: heat needs a heat section.
+void check_heat(const Reader& r, const Case& c);
+
+// ---------------------------------------------------------------------------------------------
 // Contact (case_contact.cpp)
 
 std::vector<ContactSpec> read_contact(const Reader& r, const Val& v);
@@ -58,7 +69,7 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v);
 SolverSpec read_solver(const Reader& r, const std::optional<Val>& v);
 OutputSpec read_output(const Reader& r, const std::optional<Val>& v,
                        const std::filesystem::path& default_dir,
-                       const std::vector<BoundarySpec>& boundary);
+                       const std::vector<BoundarySpec>& boundary, const HeatSpec& heat);
 
 /// Letters, digits, '_' and '-': probe and contact names become column names.
 bool valid_probe_name(const std::string& s);

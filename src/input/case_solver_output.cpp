@@ -30,7 +30,8 @@ const std::vector<std::string> auto_none = {"auto", "none"};
 const std::vector<std::string> geometries = {"small", "updated"};
 const std::vector<std::string> correction_forms = {"previous", "current"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
-const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions"};
+const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions",
+                                              "heat_flows"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 
 const KeySection sections[] = {
@@ -225,7 +226,7 @@ std::vector<ProbeSpec> read_probes(const Reader& r, const Val& x) {
 }  // namespace
 
 OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::path& default_dir,
-                       const std::vector<BoundarySpec>& boundary) {
+                       const std::vector<BoundarySpec>& boundary, const HeatSpec& heat) {
   OutputSpec o;
   o.dir = default_dir;
   o.dir_where = SourceLocation{r.label(), 0, 0, "output.dir"};
@@ -238,12 +239,35 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
   }
   if (auto x = m.get("every")) o.every = r.integer_at_least(*x, 1);
   if (auto x = m.get("probes")) o.probes = read_probes(r, *x);
+  // Regions with a displacement or a heat temperature condition, and with any heat condition,
+  // in order.
+  std::vector<std::string> fixed, heated;
+  auto add = [](std::vector<std::string>& list, const std::string& region) {
+    if (std::find(list.begin(), list.end(), region) == list.end()) list.push_back(region);
+  };
+  for (const auto& b : boundary)
+    if (b.kind == BoundaryKind::displacement) add(fixed, b.region);
+  for (const auto& b : heat.boundary) {
+    if (b.kind == HeatBoundarySpec::Kind::temperature) add(fixed, b.region);
+    add(heated, b.region);
+  }
+  if (auto x = m.get("heat_flows")) {
+    if (!heat.given)
+      r.fail(*x, "heat flows are those of a heat analysis; the case has no 'heat' section");
+    for (const auto& item : r.names(*x)) {
+      const std::string reg = r.string(item, "a region name");
+      if (std::find(o.heat_flows.begin(), o.heat_flows.end(), reg) != o.heat_flows.end())
+        r.fail(item, "region '" + reg + "' is listed twice");
+      if (std::find(heated.begin(), heated.end(), reg) == heated.end())
+        r.fail(item, "region '" + reg +
+                         "' has no heat condition, so no heat crosses it; heat flows are "
+                         "reported for regions of heat.boundary. " +
+                         suggestion(reg, heated, "regions with a heat condition"));
+      o.heat_flows.push_back(reg);
+      o.heat_flow_where.push_back(r.at(item));
+    }
+  }
   if (auto x = m.get("reactions")) {
-    std::vector<std::string> fixed;  // regions with a displacement condition, in order
-    for (const auto& b : boundary)
-      if (b.kind == BoundaryKind::displacement &&
-          std::find(fixed.begin(), fixed.end(), b.region) == fixed.end())
-        fixed.push_back(b.region);
     for (const auto& item : r.names(*x)) {
       const std::string reg = r.string(item, "a region name");
       if (std::find(o.reactions.begin(), o.reactions.end(), reg) != o.reactions.end())
@@ -251,7 +275,7 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
       if (std::find(fixed.begin(), fixed.end(), reg) == fixed.end())
         r.fail(item, "region '" + reg +
                          "' has no displacement condition; reactions are "
-                         "reported for regions with prescribed displacement. " +
+                         "reported for regions with prescribed displacement (or temperature). " +
                          suggestion(reg, fixed, "regions with a displacement condition"));
       o.reactions.push_back(reg);
       o.reaction_where.push_back(r.at(item));

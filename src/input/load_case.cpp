@@ -35,8 +35,9 @@ std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_f
   auto r = std::make_unique<InProcessRun>();
   r->loaded = load_case(case_file, log);
   auto solver = make_run_solver(*r->loaded.model, log, petsc_options);
+  auto heat = make_heat_solver(*r->loaded.model, log, petsc_options);
   Timings timings;
-  r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states);
+  r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states, heat.get());
   r->solver_stats = solver->stats();
   return r;
 }

@@ -35,6 +35,10 @@ class Assembler {
   }
   int n_colors() const { return static_cast<int>(colors_.size()); }
 
+  /// Dofs per node (3: displacement, 1: temperature); a cell's buffers hold per_node() entries
+  /// per node, in the order of its nodes.
+  int per_node() const { return dofs_->per_node; }
+
   /// kernel(cell, CellBuffers&) fills ke (zeroed before the call); the matrix goes into
   /// `values` (free x free).
   template <class Kernel>
@@ -88,7 +92,7 @@ class Assembler {
         for (std::size_t k = 0; k < color.size(); ++k) {
           const int c = color[k];
           if (only && !(*only)[c]) continue;
-          f(c, buffers, 3 * static_cast<int>(cells_->nodes(c).size()));
+          f(c, buffers, dofs_->per_node * static_cast<int>(cells_->nodes(c).size()));
         }
         // the implicit barrier of `omp for` separates colours
       }
@@ -97,9 +101,10 @@ class Assembler {
   void scatter_matrix(const SymmetricPattern& pattern, int c, const double* ke, int nd,
                       std::span<double> values) const {
     const auto nodes = cells_->nodes(c);
+    const int k = dofs_->per_node;
     int eq[max_cell_dofs];
     for (std::size_t a = 0; a < nodes.size(); ++a)
-      for (int d = 0; d < 3; ++d) eq[3 * a + d] = dofs_->eq[3 * nodes[a] + d];
+      for (int d = 0; d < k; ++d) eq[k * a + d] = dofs_->eq[k * nodes[a] + d];
     for (int j = 0; j < nd; ++j) {
       const int gj = eq[j];
       if (gj < 0) continue;
@@ -112,8 +117,9 @@ class Assembler {
   }
   void scatter_vector(int c, const double* fe, std::span<double> f_full) const {
     const auto nodes = cells_->nodes(c);
+    const int k = dofs_->per_node;
     for (std::size_t a = 0; a < nodes.size(); ++a)
-      for (int d = 0; d < 3; ++d) f_full[3 * nodes[a] + d] += fe[3 * a + d];
+      for (int d = 0; d < k; ++d) f_full[k * nodes[a] + d] += fe[k * a + d];
   }
 
   const CellSet* cells_;

@@ -32,7 +32,8 @@ std::vector<std::string> option_names(const std::string& options) {
 struct PetscSolver::Impl {
   const Mesh* mesh = nullptr;
   const DofMap* dofs = nullptr;
-  std::vector<PetscInt> first_row;  ///< 3 × new index of each node: its first global row
+  int k = 3;                        ///< dofs per node (DofMap::per_node): the block size
+  std::vector<PetscInt> first_row;  ///< k × new index of each node: its first global row
   std::vector<int> owned;           ///< this rank's nodes, in the order of their rows
   Mat A = nullptr;
   Mat elements = nullptr;  ///< keep_elements(): the elements' part of A
@@ -63,7 +64,7 @@ struct PetscSolver::Impl {
   }
 
   PetscInt row(int node, int d) const {
-    return (*dofs).eq[3 * node + d] < 0 ? -1 : first_row[node] + d;
+    return (*dofs).eq[k * node + d] < 0 ? -1 : first_row[node] + d;
   }
 };
 
@@ -91,6 +92,8 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   }
   s.mesh = &mesh;
   s.dofs = &dofs;
+  s.k = dofs.per_node;
+  const int k = s.k;
   const int n_nodes = mesh.n_nodes(), parts = partition_.parts, me = partition_.rank;
   // Rows by rank, then by the node's own order within the rank.
   std::vector<PetscInt> count(parts + 1, 0);
@@ -99,10 +102,10 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   s.first_row.resize(n_nodes);
   for (int n = 0; n < n_nodes; ++n) {
     const int r = partition_.node_owner[n];
-    s.first_row[n] = 3 * count[r]++;
+    s.first_row[n] = k * count[r]++;
     if (r == me) s.owned.push_back(n);
   }
-  const PetscInt n_local = 3 * static_cast<PetscInt>(s.owned.size());
+  const PetscInt n_local = k * static_cast<PetscInt>(s.owned.size());
 
   // Preallocation per block row: the nodes coupled to each owned node through its cells.
   std::vector<int> ptr, idx;
@@ -123,9 +126,9 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   }
   check_petsc(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
   check_petsc(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
-  check_petsc(MatSetBlockSize(s.A, 3), "MatSetBlockSize");
+  check_petsc(MatSetBlockSize(s.A, k), "MatSetBlockSize");
   check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
-  check_petsc(MatXAIJSetPreallocation(s.A, 3, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
+  check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
         "matrix preallocation");
   check_petsc(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   check_petsc(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
@@ -134,7 +137,9 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   check_petsc(VecDuplicate(s.b, &s.r), "VecDuplicate");
   check_petsc(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
 
-  // Near null space: the six rigid-body modes of the owned nodes' coordinates.
+  // Near null space of the displacement: the six rigid-body modes of the owned nodes'
+  // coordinates (a scalar field's, the constants, is GAMG's default).
+  if (k == 3) {
   Vec coords = nullptr;
   check_petsc(VecDuplicate(s.x, &coords), "VecDuplicate");
   check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
@@ -148,6 +153,7 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   check_petsc(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
   MatNullSpaceDestroy(&rigid);
   VecDestroy(&coords);
+  }
 
   check_petsc(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");
   PC pc = nullptr;
@@ -211,8 +217,8 @@ void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
   Impl& s = *impl_;
   if (s.assembled_once) check_petsc(MatZeroEntries(s.A), "MatZeroEntries");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
-    for (int d = 0; d < 3; ++d)
-      if (s.dofs->eq[3 * s.owned[l] + d] < 0) {
+    for (int d = 0; d < s.k; ++d)
+      if (s.dofs->eq[s.k * s.owned[l] + d] < 0) {
         const PetscInt r = s.first_row[s.owned[l]] + d;
         check_petsc(MatSetValue(s.A, r, r, 1.0, ADD_VALUES), "MatSetValue");
       }
@@ -227,9 +233,9 @@ void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
           if (failure.empty()) {
             const auto nodes = cells.nodes(e);
             PetscInt rows[3 * max_cell_nodes];
-            const PetscInt nd = 3 * static_cast<PetscInt>(nodes.size());
+            const PetscInt nd = s.k * static_cast<PetscInt>(nodes.size());
             for (std::size_t a = 0; a < nodes.size(); ++a)
-              for (int d = 0; d < 3; ++d) rows[3 * a + d] = s.row(nodes[a], d);
+              for (int d = 0; d < s.k; ++d) rows[s.k * a + d] = s.row(nodes[a], d);
             check_petsc(MatSetValues(s.A, nd, rows, nd, rows, ke, ADD_VALUES), "MatSetValues");
           }
         } catch (const std::exception& x) {
@@ -240,7 +246,7 @@ void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
   if (!failure.empty()) throw std::runtime_error(failure);
 }
 
-void PetscSolver::add_block(int a, int b, const Mat3& block) {
+void PetscSolver::add_block(int a, int b, const Mat3& block) {  // displacement only (k == 3)
   if (partition_.node_owner[a] != partition_.rank) return;  // the owner of the rows adds it
   const Impl& s = *impl_;
   const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
@@ -303,9 +309,9 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
   PetscScalar* b = nullptr;
   check_petsc(VecGetArray(s.b, &b), "VecGetArray");
   for (std::size_t l = 0; l < s.owned.size(); ++l)
-    for (int d = 0; d < 3; ++d) {
-      const int k = eq[3 * s.owned[l] + d];
-      b[3 * l + d] = k >= 0 ? rhs[k] : 0.0;
+    for (int d = 0; d < s.k; ++d) {
+      const int k = eq[s.k * s.owned[l] + d];
+      b[s.k * l + d] = k >= 0 ? rhs[k] : 0.0;
     }
   check_petsc(VecRestoreArray(s.b, &b), "VecRestoreArray");
   check_petsc(KSPSolve(s.ksp, s.b, s.x), "KSPSolve");
@@ -346,8 +352,8 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
   const PetscScalar* all = nullptr;
   check_petsc(VecGetArrayRead(s.x_all, &all), "VecGetArrayRead");
   for (int n = 0; n < s.mesh->n_nodes(); ++n)
-    for (int d = 0; d < 3; ++d)
-      if (const int k = eq[3 * n + d]; k >= 0) x[k] = all[s.first_row[n] + d];
+    for (int d = 0; d < s.k; ++d)
+      if (const int k = eq[s.k * n + d]; k >= 0) x[k] = all[s.first_row[n] + d];
   check_petsc(VecRestoreArrayRead(s.x_all, &all), "VecRestoreArrayRead");
 }
 

@@ -1,10 +1,11 @@
 #pragma once
 // The PETSc back end (solver.linear: petsc, and every run under mpirun with more than one rank).
-// The global matrix is a PETSc MPIAIJ matrix with block size 3 over all nodal dofs, rows split
-// by node owner (parallel/partition.hpp). Each rank adds the element matrices of its own cells;
-// PETSc moves the entries of shared nodes to their owners. A prescribed dof keeps its row and
-// column as the identity, so that every node keeps its three rows and GAMG sees 3x3 blocks; the
-// rigid-body modes of the node coordinates are its near null space (PETSc's
+// The global matrix is a PETSc MPIAIJ matrix over all nodal dofs with the DofMap's dofs per
+// node as block size (3 for the displacement, 1 for the temperature), rows split by node owner
+// (parallel/partition.hpp). Each rank adds the element matrices of its own cells; PETSc moves
+// the entries of shared nodes to their owners. A prescribed dof keeps its row and column as the
+// identity, so that every node keeps its rows and GAMG sees whole blocks; for the displacement,
+// the rigid-body modes of the node coordinates are its near null space (PETSc's
 // MatNullSpaceCreateRigidBody, as in PETSc's elasticity tutorial ex56).
 //
 // Default: CG with GAMG ("iterative"), or MUMPS Cholesky ("direct"); any PETSc option given in

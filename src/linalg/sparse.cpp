@@ -6,9 +6,11 @@
 
 namespace hencky {
 
-DofMap DofMap::from_constraints(int n_nodes, const std::vector<bool>& prescribed) {
+DofMap DofMap::from_constraints(int n_nodes, const std::vector<bool>& prescribed,
+                                int per_node) {
   DofMap m;
-  m.eq.assign(3 * static_cast<std::size_t>(n_nodes), -1);
+  m.per_node = per_node;
+  m.eq.assign(static_cast<std::size_t>(per_node) * n_nodes, -1);
   for (std::size_t i = 0; i < m.eq.size(); ++i)
     if (!prescribed[i]) m.eq[i] = m.n_free++;
   return m;
@@ -57,20 +59,18 @@ SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& 
   // Column j (a free dof of node v) holds the free dofs i <= j of the neighbours of v.
   SymmetricPattern p;
   p.n = dofs.n_free;
-  std::vector<int> dof_node(dofs.n_free), dof_comp(dofs.n_free);
+  const int k = dofs.per_node;
+  std::vector<int> dof_node(dofs.n_free);
   for (int v = 0; v < n_nodes; ++v)
-    for (int d = 0; d < 3; ++d)
-      if (int j = dofs.eq[3 * v + d]; j >= 0) {
-        dof_node[j] = v;
-        dof_comp[j] = d;
-      }
+    for (int d = 0; d < k; ++d)
+      if (int j = dofs.eq[k * v + d]; j >= 0) dof_node[j] = v;
   std::vector<std::int64_t> count(p.n, 0);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t j = 0; j < p.n; ++j) {
     std::int64_t c = 0;
     for (int w : neighbours[dof_node[j]])
-      for (int d = 0; d < 3; ++d)
-        if (int i = dofs.eq[3 * w + d]; i >= 0 && i <= j) ++c;
+      for (int d = 0; d < k; ++d)
+        if (int i = dofs.eq[k * w + d]; i >= 0 && i <= j) ++c;
     count[j] = c;
   }
   p.col_ptr.assign(p.n + 1, 0);
@@ -80,8 +80,8 @@ SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& 
   for (std::int64_t j = 0; j < p.n; ++j) {
     std::int64_t pos = p.col_ptr[j];
     for (int w : neighbours[dof_node[j]])
-      for (int d = 0; d < 3; ++d)
-        if (int i = dofs.eq[3 * w + d]; i >= 0 && i <= j) p.row[pos++] = i;
+      for (int d = 0; d < k; ++d)
+        if (int i = dofs.eq[k * w + d]; i >= 0 && i <= j) p.row[pos++] = i;
     std::sort(p.row.begin() + p.col_ptr[j], p.row.begin() + pos);
   }
   return p;

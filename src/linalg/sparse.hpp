@@ -10,13 +10,17 @@
 
 namespace hencky {
 
-/// Equation number of every nodal degree of freedom: eq[3*node + d], or -1 when prescribed.
+/// Equation number of every nodal degree of freedom: eq[per_node*node + d], or -1 when
+/// prescribed. per_node is 3 for the displacement, 1 for the temperature.
 struct DofMap {
   std::vector<int> eq;
   int n_free = 0;
+  int per_node = 3;
   int n_dofs() const { return static_cast<int>(eq.size()); }
-  /// Numbers the free dofs node by node (the order keeps a node's three dofs together).
-  static DofMap from_constraints(int n_nodes, const std::vector<bool>& prescribed);
+  /// Numbers the free dofs node by node (the order keeps a node's dofs together);
+  /// prescribed has per_node entries per node.
+  static DofMap from_constraints(int n_nodes, const std::vector<bool>& prescribed,
+                                 int per_node = 3);
 };
 
 struct SymmetricPattern {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "solve/heat.hpp"
 #include "linalg/linear_system.hpp"
 #include "solve/model.hpp"
 #include "solve/state.hpp"
@@ -21,7 +22,9 @@ struct AnalysisResult {
   std::string failure;  ///< why the analysis stopped, when it did
 };
 
+/// `heat`: the heat analysis of a case with temperature: {from: heat} (make_heat_solver,
+/// solve/driver.hpp); its divergence stops the run as a step's does.
 AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
-                            StepObserver& observer);
+                            StepObserver& observer, HeatSolver* heat = nullptr);
 
 }  // namespace hencky

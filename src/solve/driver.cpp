@@ -50,37 +50,61 @@ std::vector<std::string> describe_contact(const Model& model) {
   return out;
 }
 
-std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
-                                              const std::string& petsc_options) {
-  const SolverSpec& s = model.spec().solver;
+namespace {
+
+/// The case's back end for the system of `assembler` and `dofs` (the displacement's or the
+/// temperature's); `model` is given for the displacement only: it then logs the choice and
+/// holds the points of this rank's cells.
+std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
+                                          const Assembler& assembler, const DofMap& dofs,
+                                          Log& log, const std::string& petsc_options) {
+  const SolverSpec& s = spec_model.spec().solver;
   const int ranks = par::size();
   if (s.linear != SolverSpec::Linear::petsc && ranks == 1)
-    return make_serial_system(model.assembler(), model.dofs(),
+    return make_serial_system(assembler, dofs,
                               s.linear == SolverSpec::Linear::iterative
                                   ? LinearSolverKind::iterative
                                   : LinearSolverKind::direct);
   const PetscPreset preset =
       s.linear == SolverSpec::Linear::direct ? PetscPreset::mumps : PetscPreset::gamg;
-  if (s.linear != SolverSpec::Linear::petsc)
+  if (s.linear != SolverSpec::Linear::petsc && model)
     log.info("{} MPI ranks: the PETSc back end with {} replaces solver.linear: {}", ranks,
              preset == PetscPreset::mumps ? "MUMPS (direct)" : "CG + GAMG (iterative)",
              s.linear == SolverSpec::Linear::direct ? "direct" : "iterative");
-  Partition part = partition_mesh(model.mesh(), ranks, par::rank());
-  if (ranks > 1)
+  Partition part = partition_mesh(spec_model.mesh(), ranks, par::rank());
+  if (ranks > 1 && model)
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
              par::min(part.owned_cells), par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
-  if (ranks > 1) model.hold_points(part.owned_cell);
+  if (ranks > 1 && model) model->hold_points(part.owned_cell);
   try {
-    return std::make_unique<PetscSolver>(model.mesh(), model.dofs(), model.assembler(),
+    return std::make_unique<PetscSolver>(spec_model.mesh(), dofs, assembler,
                                          std::move(part), preset,
                                          s.petsc_options.empty() || petsc_options.empty()
                                              ? s.petsc_options + petsc_options
                                              : s.petsc_options + " " + petsc_options);
   } catch (const std::invalid_argument& e) {
-    throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
+    throw InputError(SourceLocation{spec_model.spec().file.string(), 0, 0, "solver.petsc_options"},
                      std::string(e.what()) + " (from solver.petsc_options and --petsc)");
   }
+}
+
+}  // namespace
+
+std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
+                                              const std::string& petsc_options) {
+  return make_system(model, &model, model.assembler(), model.dofs(), log, petsc_options);
+}
+
+std::unique_ptr<HeatSolver> make_heat_solver(const Model& model, Log& log,
+                                             const std::string& petsc_options) {
+  if (!model.has_heat()) return nullptr;
+  return std::make_unique<HeatSolver>(
+      model,
+      [&](const Assembler& assembler, const DofMap& dofs) {
+        return make_system(model, nullptr, assembler, dofs, log, petsc_options);
+      },
+      log);
 }
 
 }  // namespace hencky

@@ -24,4 +24,9 @@ std::vector<std::string> describe_contact(const Model& model);
 std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options = "");
 
+/// The heat analysis of a case with a heat section (none without one), on the same back end
+/// as make_run_solver's. Collective.
+std::unique_ptr<HeatSolver> make_heat_solver(const Model& model, Log& log,
+                                             const std::string& petsc_options = "");
+
 }  // namespace hencky

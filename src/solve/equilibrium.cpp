@@ -37,9 +37,11 @@ double model_size(const Mesh& mesh) {
 
 }  // namespace
 
-Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings)
+Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings,
+                         HeatSolver* heat)
     : m_(m),
       system_(system),
+      heat_(heat),
       log_(log),
       timings_(timings),
       // On more than one rank each rank works on its own cells and the nodal vectors are
@@ -269,7 +271,13 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
   const auto& dofs = m_.dofs();
   trial.time = t1;
   trial.u = c.u;
-  m_.nodal_temperature(t1, trial.nodal_temperature);
+  if (heat_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    heat_->at(t1, trial.nodal_temperature, trial.heat_flow);
+    timings_.heat += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } else {
+    m_.nodal_temperature(t1, trial.nodal_temperature);
+  }
   points_.temperatures(trial, log_);
   m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
   if (updated_)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/log.hpp"
+#include "solve/heat.hpp"
 #include "linalg/linear_system.hpp"
 #include "solve/anderson.hpp"
 #include "solve/contact_step.hpp"
@@ -28,7 +29,10 @@ struct StepOutcome {
 
 class Equilibrium {
  public:
-  Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings);
+  /// `heat`: the heat analysis whose temperatures the steps take (temperature: {from: heat}),
+  /// else none.
+  Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings,
+              HeatSolver* heat = nullptr);
 
   /// The initial state: undeformed, stress-free, at T_ref, no load.
   State initial_state() const;
@@ -81,6 +85,7 @@ class Equilibrium {
 
   const Model& m_;
   LinearSystem& system_;
+  HeatSolver* heat_;
   Log& log_;
   Timings& timings_;
   const std::vector<char>* only_;  ///< this rank's cells, on more than one rank

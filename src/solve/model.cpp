@@ -42,6 +42,7 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   bind_boundary();
   bind_temperature();
   check_temperature_range();
+  bind_heat();
   bind_outputs();
   bind_contact();
   hold_points(std::vector<char>(mesh_.cells.size(), 1));
@@ -197,26 +198,13 @@ void Model::bind_boundary() {
         normal += nq * t.weights[q];
         area += nq.norm() * t.weights[q];
       }
-      // The volume cell that owns the face: it holds all the face's corner nodes.
-      const int n_corners = cell_n_corners(ft);
-      int owner = -1, n_owners = 0;
-      for (int k = nc_ptr[nodes[0]]; k < nc_ptr[nodes[0] + 1]; ++k) {
-        const int c = nc_idx[k];
-        const auto cn = mesh_.cells.nodes(c);
-        bool all = true;
-        for (int a = 1; a < n_corners && all; ++a)
-          all = std::find(cn.begin(), cn.end(), nodes[a]) != cn.end();
-        if (all) {
-          owner = c;
-          ++n_owners;
-        }
-      }
-      if (n_owners != 1)
+      const int owner = face_owner(f, nc_ptr, nc_idx);
+      if (owner < 0)
         throw InputError(bc.where,
                          fmt::format("face {} of region '{}' is {}; a {} must be applied on the "
                                      "outer surface of the body",
                                      mesh_.faces.tag[f], r.name,
-                                     n_owners == 0 ? "not a face of any volume element"
+                                     owner == -1 ? "not a face of any volume element"
                                                    : "inside the body (between two elements)",
                                      to_string(bc.kind)));
       Vec3 cell_centre = Vec3::Zero(), face_centre = Vec3::Zero();
@@ -243,6 +231,82 @@ void Model::bind_boundary() {
   if (dofs_.n_free == 0)
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "every degree of freedom is prescribed: there is nothing to solve");
+}
+
+int Model::face_owner(int f, const std::vector<int>& nc_ptr,
+                      const std::vector<int>& nc_idx) const {
+  const auto nodes = mesh_.faces.nodes(f);
+  const int n_corners = cell_n_corners(mesh_.faces.type[f]);
+  int owner = -1, n_owners = 0;
+  for (int k = nc_ptr[nodes[0]]; k < nc_ptr[nodes[0] + 1]; ++k) {
+    const int c = nc_idx[k];
+    const auto cn = mesh_.cells.nodes(c);
+    bool all = true;
+    for (int a = 1; a < n_corners && all; ++a)
+      all = std::find(cn.begin(), cn.end(), nodes[a]) != cn.end();
+    if (all) {
+      owner = c;
+      ++n_owners;
+    }
+  }
+  return n_owners > 1 ? -2 : owner;
+}
+
+void Model::bind_heat() {
+  const HeatSpec& heat = case_->heat;
+  if (!heat.given) return;
+  const int n_nodes = mesh_.n_nodes();
+  heat_fixed_.assign(n_nodes, -1);
+  std::vector<int> nc_ptr, nc_idx;
+  node_cell_incidence(mesh_.cells, n_nodes, nc_ptr, nc_idx);
+  std::vector<std::vector<HeatFace>> by_cell(mesh_.cells.size());
+  for (std::size_t b = 0; b < heat.boundary.size(); ++b) {
+    const HeatBoundarySpec& bc = heat.boundary[b];
+    if (bc.kind == HeatBoundarySpec::Kind::temperature) {
+      const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
+      if (r.nodes.empty())
+        throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
+      for (int n : r.nodes) heat_fixed_[n] = static_cast<int>(b);
+      continue;
+    }
+    const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
+    if (r.cells.empty())
+      throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",
+                                             r.name, to_string(bc.kind)));
+    for (int f : r.cells) {
+      const int owner = face_owner(f, nc_ptr, nc_idx);
+      if (owner < 0)
+        throw InputError(bc.where,
+                         fmt::format("face {} of region '{}' is {}; a {} condition acts on the "
+                                     "outer surface of the body",
+                                     mesh_.faces.tag[f], r.name,
+                                     owner == -1 ? "not a face of any volume element"
+                                                 : "inside the body (between two elements)",
+                                     to_string(bc.kind)));
+      HeatFace hf{f, static_cast<int>(b), owner, {}};
+      const auto fn = mesh_.faces.nodes(f);
+      const auto cn = mesh_.cells.nodes(owner);
+      for (std::size_t a = 0; a < fn.size(); ++a) {
+        const auto it = std::find(cn.begin(), cn.end(), fn[a]);
+        if (it == cn.end())  // a mid-edge node the cell lacks: meshes of mixed order
+          throw InputError(bc.where, fmt::format("face {} of region '{}' has a node that its "
+                                                 "volume element {} lacks (mixed orders?)",
+                                                 mesh_.faces.tag[f], r.name,
+                                                 mesh_.cells.tag[owner]));
+        hf.local[a] = static_cast<std::int8_t>(it - cn.begin());
+      }
+      by_cell[owner].push_back(hf);
+    }
+  }
+  heat_face_start_.assign(mesh_.cells.size() + 1, 0);
+  for (int c = 0; c < mesh_.cells.size(); ++c) {
+    heat_face_start_[c + 1] = heat_face_start_[c] + static_cast<int>(by_cell[c].size());
+    heat_faces_.insert(heat_faces_.end(), by_cell[c].begin(), by_cell[c].end());
+  }
+  std::vector<bool> prescribed(n_nodes);
+  for (int n = 0; n < n_nodes; ++n) prescribed[n] = heat_fixed_[n] >= 0;
+  heat_dofs_ = DofMap::from_constraints(n_nodes, prescribed, 1);
+  heat_assembler_ = std::make_unique<Assembler>(mesh_.cells, n_nodes, heat_dofs_);
 }
 
 void Model::bind_temperature() {
@@ -419,15 +483,17 @@ void Model::bind_outputs() {
   }
   for (std::size_t k = 0; k < out.reactions.size(); ++k) {
     const Region& r = find_region(out.reactions[k], out.reaction_where[k], 0, 3, "region");
-    bool any = false;
-    for (int n : r.nodes)
+    bool any = false, heat = false;
+    for (int n : r.nodes) {
       for (int d = 0; d < 3; ++d) any = any || dofs_.eq[3 * n + d] < 0;
-    if (!any)
+      heat = heat || (!heat_fixed_.empty() && heat_fixed_[n] >= 0);
+    }
+    if (!any && !heat)
       throw InputError(out.reaction_where[k],
-                       fmt::format("region '{}' has no prescribed displacement, so it carries no "
-                                   "reaction",
-                                   r.name));
-    reactions_.push_back({r.name, &r});
+                       fmt::format("region '{}' has no prescribed displacement{}, so it carries "
+                                   "no reaction",
+                                   r.name, has_heat() ? " or temperature" : ""));
+    reactions_.push_back({r.name, &r, any, heat});
   }
 }
 

@@ -2,6 +2,8 @@
 // The analysis model: the validated case bound to the mesh. Everything here is checked
 // against the mesh once (regions, materials, element shapes, probes, temperature nodes) so
 // that the step loop meets no input error.
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +38,15 @@ struct FaceLoad {
   double scale = 1.0;  ///< 1 / region area for a total force, else 1
 };
 
+/// A face of a heat condition (flux, convection, radiation) in the volume cell that owns it:
+/// the heat solver integrates it with that cell, so that its matrix goes in with the cell's.
+struct HeatFace {
+  int face;      ///< index into Mesh::faces
+  int boundary;  ///< index into HeatSpec::boundary
+  int cell;      ///< the volume cell the face bounds
+  std::array<std::int8_t, max_cell_nodes> local{};  ///< the cell's index of each face node
+};
+
 struct Probe {
   const ProbeSpec* spec;
   int cell;
@@ -45,6 +56,8 @@ struct Probe {
 struct ReactionRegion {
   std::string name;
   const Region* region;
+  bool force = true;  ///< some node has a prescribed displacement: reaction.<name>.x|y|z
+  bool heat = false;  ///< some node has a prescribed temperature: reaction.<name>.heat
 };
 
 class Model {
@@ -81,6 +94,20 @@ class Model {
   /// Some material has a hardening curve.
   bool has_plasticity() const;
 
+  // Heat conduction (the heat section; empty without one).
+  bool has_heat() const { return case_->heat.given; }
+  /// The temperature dofs, one per node: prescribed where a heat temperature condition holds.
+  const DofMap& heat_dofs() const { return heat_dofs_; }
+  const Assembler& heat_assembler() const { return *heat_assembler_; }
+  /// Per node, the heat.boundary entry that prescribes its temperature (the last one listed
+  /// that holds the node), or -1.
+  const std::vector<int>& heat_fixed() const { return heat_fixed_; }
+  /// Faces of the flux, convection and radiation conditions, and for each cell where its faces
+  /// start in that list (CSR: cell c's are heat_faces()[heat_face_start(c) ..
+  /// heat_face_start(c + 1)).
+  const std::vector<HeatFace>& heat_faces() const { return heat_faces_; }
+  int heat_face_start(int cell) const { return heat_face_start_[cell]; }
+
   /// Nodal temperature at time t (T_ref everywhere without a temperature section).
   void nodal_temperature(double t, std::vector<double>& T) const;
   /// Prescribed displacement at time t written into the prescribed entries of u (3 per node).
@@ -113,6 +140,10 @@ class Model {
   void check_temperature_range();
   void bind_outputs();
   void bind_contact();
+  void bind_heat();
+  /// The volume cell that owns boundary face f (holds all its corner nodes); -1 when none
+  /// does, -2 when two do (an inner face). nc_*: node_cell_incidence of the cells.
+  int face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx) const;
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 
@@ -133,6 +164,11 @@ class Model {
   std::vector<Probe> probes_;
   std::vector<ReactionRegion> reactions_;
   std::vector<ContactBody> contacts_;
+  DofMap heat_dofs_;
+  std::unique_ptr<Assembler> heat_assembler_;
+  std::vector<int> heat_fixed_;
+  std::vector<HeatFace> heat_faces_;
+  std::vector<int> heat_face_start_;
   std::vector<int> temperature_row_;      ///< row of the temperature file for each node
   std::vector<double> reference_strain_;  ///< α(T_ref)·T_ref of each material
   double reference_temperature_ = 0;

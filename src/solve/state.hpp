@@ -16,6 +16,9 @@ struct State {
   double time = 0;
   std::vector<double> u;                    ///< displacement, 3 per node
   std::vector<double> nodal_temperature;    ///< per node
+  /// Heat section only: per heat.boundary entry, the heat into the body (W) at this time
+  /// (HeatSnapshot::flow).
+  std::vector<double> heat_flow;
   std::vector<Voigt> stress;                ///< per integration point
   std::vector<double> temperature;          ///< per integration point
   std::vector<ElasticConstants> constants;  ///< E, ν, α at the point's temperature
@@ -53,6 +56,7 @@ struct StepReport {
 struct Timings {
   double assembly = 0, factorization = 0, solve = 0, material = 0, output = 0;
   double contact = 0;  ///< contact search and state updates
+  double heat = 0;     ///< the heat analysis (all of it: assembly, factorization, solves)
 };
 
 struct RecoveredFields;  // solve/recovery.hpp

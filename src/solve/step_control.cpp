@@ -94,9 +94,9 @@ void log_step(const Model& model, const Equilibrium& eq, const StepReport& repor
 }  // namespace
 
 AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
-                            StepObserver& observer) {
+                            StepObserver& observer, HeatSolver* heat) {
   const auto& spec = model.spec().solver;
-  Equilibrium eq(model, system, log, timings);
+  Equilibrium eq(model, system, log, timings, heat);
   State committed = eq.initial_state(), trial = committed;
   AnalysisResult result;
   StepTargets targets(spec.times);
@@ -106,7 +106,16 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     const int depth = targets.depth();
     StepOutcome out;
     std::string why;
-    const bool ok = attempt(model, eq, committed, t1, trial, result.steps == 0, out, why);
+    bool ok = false;
+    try {
+      ok = attempt(model, eq, committed, t1, trial, result.steps == 0, out, why);
+    } catch (const HeatDivergence& e) {  // the heat analysis cut its own steps back already
+      result.status = AnalysisStatus::not_converged;
+      result.factorizations = eq.factorizations();
+      result.failure = e.what();
+      log.info("{}", result.failure);
+      return result;
+    }
     result.iterations += out.iterations;
     if (!ok) {
       const double mid = 0.5 * (committed.time + t1);
@@ -124,6 +133,7 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     }
     targets.reached();
     std::swap(committed, trial);
+    if (heat) heat->committed(t1);
     ++result.steps;
     StepReport report;
     report.step = result.steps;

@@ -83,6 +83,10 @@ struct MaterialSpec {
   std::vector<SourceLocation> region_where;  ///< location of each region name
   PropertyTable E, nu, alpha;                ///< alpha is 0 when not given (only allowed
                                              ///< without a temperature section)
+  /// Heat conduction (a `heat` section): k in W/(m·K), ρ in kg/m³, c in J/(kg·K). Not given:
+  /// no value (PropertyTable::value empty); conductivity is required by every heat analysis,
+  /// density and specific_heat by a transient one.
+  PropertyTable conductivity, density, specific_heat;
   std::optional<PlasticitySpec> plasticity;  ///< none: elastic
   SourceLocation where;                      ///< the entry materials[i]
 };
@@ -101,12 +105,51 @@ struct TemperatureFile {
 struct TemperatureSpec {
   bool given = false;               ///< a temperature section is present
   double reference = 0;             ///< T_ref, the stress-free temperature (required when given)
-  std::optional<Expression> field;  ///< T(x, y, z, t); exactly one of field / file is set
+  /// T(x, y, z, t); exactly one of field / file / from_heat is set
+  std::optional<Expression> field;
   std::optional<TemperatureFile> file;  ///< when given
+  bool from_heat = false;               ///< `from: heat`: the heat section's solution
   SourceLocation where;                 ///< the temperature section
   SourceLocation reference_where;       ///< the value of temperature.reference
   SourceLocation field_where;  ///< the value of temperature.field (key temperature.field.file
                                ///< for a file)
+};
+
+/// One condition of heat.boundary: a region's faces (or, for a temperature, its nodes).
+struct HeatBoundarySpec {
+  enum class Kind { temperature, flux, convection, radiation };
+  std::string region;
+  Kind kind = Kind::temperature;
+  /// temperature: the prescribed temperature; flux: the heat flux into the body (W/m²);
+  /// convection: the film coefficient h (W/(m²·K)); radiation: the emissivity (0 .. 1). An
+  /// expression of x, y, z, t.
+  Expression value;
+  Expression ambient;     ///< convection, radiation: the ambient temperature T∞
+  SourceLocation where;   ///< location of the region name (key heat.boundary[i].region)
+  SourceLocation value_where;  ///< the value's key (e.g. heat.boundary[i].convection.h)
+};
+const char* to_string(HeatBoundarySpec::Kind kind);
+
+/// The `heat` section: heat conduction on the same mesh, k(T) ∇²T + Q = ρc(T) ∂T/∂t, solved
+/// step by step before the mechanical step that needs its temperatures (heat/thermal.hpp).
+struct HeatSpec {
+  bool given = false;
+  bool transient = false;  ///< analysis: steady (false, the default) | transient
+  /// Initial temperature (transient; the first guess of a steady one), an expression of
+  /// x, y, z; not given: temperature.reference.
+  std::optional<Expression> initial;
+  double theta = 1.0;  ///< θ-method: 1 backward Euler (the default), 1/2 Crank–Nicolson
+  Expression source;   ///< volumetric heat source in W/m³, an expression of x, y, z, t, T
+  std::vector<HeatBoundarySpec> boundary;
+  /// The thermal steps' end times (heat.steps / heat.times); not given: the mechanical ones.
+  std::vector<double> times;
+  double tolerance = 1e-8;  ///< Newton: relative residual and temperature change
+  int max_iterations = 30;
+  /// Radiation: the absolute zero in the case's temperature unit (-273.15 for °C, 0 for K),
+  /// required with radiation, and σ in W/(m²·K⁴).
+  std::optional<double> absolute_zero;
+  double stefan_boltzmann = 5.670374419e-8;
+  SourceLocation where;  ///< the heat section
 };
 
 enum class BoundaryKind { displacement, pressure, traction, force };
@@ -274,8 +317,11 @@ struct OutputSpec {
   SourceLocation dir_where;   ///< key output.dir; the case file alone when it is the default
   int every = 1;              ///< >= 1; the last step is always written
   std::vector<ProbeSpec> probes;
-  std::vector<std::string> reactions;  ///< regions that have a displacement condition
+  std::vector<std::string> reactions;  ///< regions that have a displacement (or a heat
+                                       ///< temperature) condition
   std::vector<SourceLocation> reaction_where;
+  std::vector<std::string> heat_flows;  ///< regions whose heat flow is written (heat_flows)
+  std::vector<SourceLocation> heat_flow_where;
 };
 
 struct MeshSpec {
@@ -291,6 +337,7 @@ struct Case {
   MeshSpec mesh;
   std::vector<MaterialSpec> materials;  ///< at least one
   TemperatureSpec temperature;
+  HeatSpec heat;
   std::vector<BoundarySpec> boundary;
   std::optional<std::array<Expression, 3>> body_force;
   std::vector<ContactSpec> contact;

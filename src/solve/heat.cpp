@@ -1,0 +1,558 @@
+#include "solve/heat.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+
+#include "fem/geometry.hpp"
+#include "fem/quadrature.hpp"
+#include "fem/reference_element.hpp"
+#include "parallel/mpi.hpp"
+
+namespace hencky {
+
+namespace {
+
+/// The quadrature of the heat terms: at least the mechanical one, and exact for the capacity
+/// (mass) matrix of an affine cell.
+int heat_degree(CellType type) {
+  const int order = cell_linear(type) == type ? 1 : 2;
+  return std::max(default_degree(type), 2 * order);
+}
+
+double norm(const std::vector<double>& v, const std::vector<int>& eq) {
+  double s = 0;
+  for (std::size_t n = 0; n < v.size(); ++n)
+    if (eq[n] >= 0) s += v[n] * v[n];
+  return std::sqrt(s);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// HeatCapacity
+
+HeatCapacity::HeatCapacity(const PropertyTable& density, const PropertyTable& specific_heat,
+                           double T_ref)
+    : rho_(&density), c_(&specific_heat) {
+  T_ = density.temperature;
+  T_.insert(T_.end(), specific_heat.temperature.begin(), specific_heat.temperature.end());
+  T_.push_back(T_ref);
+  std::sort(T_.begin(), T_.end());
+  T_.erase(std::unique(T_.begin(), T_.end()), T_.end());
+  H_.assign(T_.size(), 0.0);
+  const std::size_t i0 = std::lower_bound(T_.begin(), T_.end(), T_ref) - T_.begin();
+  for (std::size_t i = i0 + 1; i < T_.size(); ++i) H_[i] = H_[i - 1] + integral(T_[i - 1], T_[i]);
+  for (std::size_t i = i0; i-- > 0;) H_[i] = H_[i + 1] - integral(T_[i], T_[i + 1]);
+}
+
+double HeatCapacity::integral(double a, double b) const {
+  const double m = 0.5 * (a + b), h = 0.5 * (b - a), g = h / std::sqrt(3.0);
+  return h * (rho_c(m - g) + rho_c(m + g));
+}
+
+double HeatCapacity::enthalpy(double T) const {
+  // The piece that holds T; beyond the ends ρc is constant and the end piece extends.
+  const auto it = std::upper_bound(T_.begin(), T_.end(), T);
+  const std::size_t i = it == T_.begin() ? 0 : static_cast<std::size_t>(it - T_.begin()) - 1;
+  return H_[i] + integral(T_[i], T);
+}
+
+// ---------------------------------------------------------------------------------------------
+// HeatSolver
+
+/// The case's expressions, one copy per thread (Expression is not thread-safe).
+struct HeatSolver::PointExpressions {
+  Expression source;
+  std::vector<Expression> value, ambient;  ///< per heat.boundary entry
+};
+
+/// What a pass over the cells gives, per node (whole on every rank): R(T, t1) and the
+/// capacity term C = ∫ (H(T) − H(T0)) N dV, each with its scale (the sum of the magnitudes
+/// of the terms it is made of, which bounds its round-off).
+struct HeatSolver::Evaluation {
+  std::vector<double> R, SR, C, SC;
+  std::vector<double> G, S;  ///< the step's residual and its scale
+};
+
+HeatSolver::HeatSolver(const Model& model, const SystemFactory& make_system, Log& log)
+    : model_(model), spec_(model.spec().heat), log_(log) {
+  system_ = make_system(model.heat_assembler(), model.heat_dofs());
+  const double T_ref = model.reference_temperature();
+  for (const MaterialModel& m : model.materials())
+    capacity_.push_back(spec_.transient
+                            ? HeatCapacity(m.spec->density, m.spec->specific_heat, T_ref)
+                            : HeatCapacity());
+  PointExpressions ex{spec_.source, {}, {}};
+  for (const auto& b : spec_.boundary) {
+    ex.value.push_back(b.value);
+    ex.ambient.push_back(b.ambient);
+  }
+  expressions_.assign(static_cast<std::size_t>(std::max(1, omp_get_max_threads())), ex);
+
+  // The matrix depends on Δt alone when every property is a constant, the film coefficients
+  // are constants and nothing radiates or makes a source of the temperature.
+  linear_ = !spec_.source.depends_on_temperature();
+  for (const MaterialModel& m : model.materials()) {
+    linear_ = linear_ && m.spec->conductivity.is_constant();
+    if (spec_.transient)
+      linear_ = linear_ && m.spec->density.is_constant() && m.spec->specific_heat.is_constant();
+  }
+  for (const auto& b : spec_.boundary)
+    if (b.kind == HeatBoundarySpec::Kind::radiation ||
+        (b.kind == HeatBoundarySpec::Kind::convection && !b.value.is_constant()))
+      linear_ = false;
+}
+
+HeatSolver::~HeatSolver() = default;
+
+void HeatSolver::start() {
+  // The solution at t = 0: the initial temperature, or the steady one at t = 0.
+  const Model& model = model_;
+  const double T_ref = model.reference_temperature();
+  R_last_.assign(model.mesh().n_nodes(), 0.0);
+  S_last_.assign(model.mesh().n_nodes(), 0.0);
+  HeatSnapshot s0;
+  s0.time = 0;
+  s0.T.resize(model.mesh().n_nodes());
+  for (int n = 0; n < model.mesh().n_nodes(); ++n) {
+    const Vec3& x = model.mesh().x[n];
+    s0.T[n] = spec_.initial ? spec_.initial->eval_checked(x.x(), x.y(), x.z(), 0, "initial")
+                            : T_ref;
+  }
+  s0.flow.assign(spec_.boundary.size(), 0.0);
+  const auto t_start = std::chrono::steady_clock::now();
+  if (spec_.transient) {
+    Evaluation ev;
+    evaluate(s0.T, s0, 0.0, false, ev);
+    R_last_ = std::move(ev.R);
+    S_last_ = std::move(ev.SR);
+    natural_flows(s0.T, 0.0, s0.flow_now);
+    snapshots_.push_back(std::move(s0));
+  } else {
+    HeatSnapshot steady;
+    std::string why;
+    if (!solve(s0, 0.0, steady, why))
+      throw HeatDivergence("heat: the steady temperature at t = 0 did not converge: " + why);
+    snapshots_.push_back(std::move(steady));
+  }
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
+
+void HeatSolver::fixed_temperatures(double t, std::vector<double>& T) const {
+  const auto& fixed = model_.heat_fixed();
+  for (std::size_t n = 0; n < fixed.size(); ++n)
+    if (fixed[n] >= 0) {
+      const Vec3& x = model_.mesh().x[n];
+      T[n] = spec_.boundary[fixed[n]].value.eval_checked(x.x(), x.y(), x.z(), t, "temperature");
+    }
+}
+
+namespace {
+
+/// The heat flux into the body of a natural condition at a face point, its derivative with
+/// respect to T and the magnitude of its terms. Throws InputError for a negative h or an
+/// emissivity outside 0 .. 1.
+struct FaceFlux {
+  double q = 0, dq_dT = 0, scale = 0;
+};
+FaceFlux face_flux(const HeatBoundarySpec& bc, const Expression& value, const Expression& ambient,
+                   const HeatSpec& spec, const Vec3& p, double t, double T) {
+  FaceFlux f;
+  const char* what = to_string(bc.kind);
+  const double v = value.eval_checked(p.x(), p.y(), p.z(), t, what);
+  switch (bc.kind) {
+    case HeatBoundarySpec::Kind::flux:
+      f.q = v;
+      f.scale = std::abs(v);
+      break;
+    case HeatBoundarySpec::Kind::convection: {
+      if (v < 0)
+        throw InputError(bc.value_where,
+                         fmt::format("\"{}\" gives the film coefficient h = {:g} at ({:g}, {:g}, "
+                                     "{:g}), t = {:g}; h must be >= 0",
+                                     value.text(), v, p.x(), p.y(), p.z(), t));
+      const double Ta = ambient.eval_checked(p.x(), p.y(), p.z(), t, "ambient");
+      f.q = v * (Ta - T);
+      f.dq_dT = -v;
+      f.scale = v * (std::abs(Ta) + std::abs(T));
+      break;
+    }
+    case HeatBoundarySpec::Kind::radiation: {
+      if (v < 0 || v > 1)
+        throw InputError(bc.value_where,
+                         fmt::format("\"{}\" gives the emissivity {:g} at ({:g}, {:g}, {:g}), "
+                                     "t = {:g}; it must be in 0 .. 1",
+                                     value.text(), v, p.x(), p.y(), p.z(), t));
+      const double Ta = ambient.eval_checked(p.x(), p.y(), p.z(), t, "ambient");
+      const double z = *spec.absolute_zero, es = v * spec.stefan_boltzmann;
+      const double a = Ta - z, b = std::max(T - z, 0.0);
+      f.q = es * (a * a * a * a - b * b * b * b);
+      f.dq_dT = -4 * es * b * b * b;
+      f.scale = es * (a * a * a * a + b * b * b * b);
+      break;
+    }
+    case HeatBoundarySpec::Kind::temperature:
+      break;
+  }
+  return f;
+}
+
+}  // namespace
+
+void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+                          bool matrix, Evaluation& ev) {
+  const Mesh& mesh = model_.mesh();
+  const int n_nodes = mesh.n_nodes();
+  // R, SR, C, SC side by side: one reduction over the ranks.
+  std::vector<double> sums(4 * static_cast<std::size_t>(n_nodes), 0.0);
+  double* R = sums.data();
+  double* SR = R + n_nodes;
+  double* C = SR + n_nodes;
+  double* SC = C + n_nodes;
+  const bool transient = spec_.transient;
+  const double dt = t1 - from.time;
+  // The matrix of G: ∂C/∂T / Δt + θ ∂R/∂T (transient), ∂R/∂T (steady).
+  const double theta = transient ? spec_.theta : 1.0;
+  const double inv_dt = transient && dt > 0 ? 1.0 / dt : 0.0;
+  const bool source = !(spec_.source.is_constant() && spec_.source(0, 0, 0, 0) == 0);
+  std::exception_ptr error;
+  std::mutex error_mutex;
+
+  // Cells of one colour share no node, and the assembler runs the kernel colour by colour:
+  // the kernel adds its cell's vectors into the nodal sums itself.
+  auto kernel = [&](int e, CellBuffers& b) {
+    try {
+      const auto nodes = mesh.cells.nodes(e);
+      const int n = static_cast<int>(nodes.size());
+      const CellType type = mesh.cells.type[e];
+      const ReferenceTable& tab = reference_table(type, heat_degree(type));
+      const MaterialSpec& mat = *model_.material_of(e).spec;
+      const HeatCapacity& cap = capacity_[model_.material_index(e)];
+      const PointExpressions& ex = expressions_[omp_get_thread_num()];
+      Vec3 x[max_cell_nodes];
+      double Te[max_cell_nodes], T0e[max_cell_nodes], dNdx[3 * max_cell_nodes];
+      double r[max_cell_nodes] = {}, sr[max_cell_nodes] = {}, c[max_cell_nodes] = {},
+             sc[max_cell_nodes] = {};
+      for (int a = 0; a < n; ++a) {
+        x[a] = mesh.x[nodes[a]];
+        Te[a] = T[nodes[a]];
+        T0e[a] = from.T[nodes[a]];
+      }
+      const std::span<const Vec3> xs(x, n);
+      double* ke = b.ke;
+      for (int q = 0; q < tab.n_points; ++q) {
+        const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
+        const double* N = &tab.N[static_cast<std::size_t>(q) * n];
+        double Tq = 0, T0q = 0;
+        Vec3 g = Vec3::Zero(), g_abs = Vec3::Zero();
+        for (int a = 0; a < n; ++a) {
+          Tq += N[a] * Te[a];
+          T0q += N[a] * T0e[a];
+          const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+          g += ga * Te[a];
+          g_abs += ga.cwiseAbs() * std::abs(Te[a]);
+        }
+        const double k = mat.conductivity(Tq);
+        for (int a = 0; a < n; ++a) {
+          const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+          r[a] += k * ga.dot(g) * dv;
+          sr[a] += k * ga.cwiseAbs().dot(g_abs) * dv;
+          if (matrix)
+            for (int bb = 0; bb < n; ++bb)
+              ke[a * n + bb] += theta * k *
+                                (ga[0] * dNdx[3 * bb] + ga[1] * dNdx[3 * bb + 1] +
+                                 ga[2] * dNdx[3 * bb + 2]) *
+                                dv;
+        }
+        if (source) {
+          const Vec3 p = point_position(tab, q, xs);
+          const double Q = ex.source(p.x(), p.y(), p.z(), t1, Tq);
+          if (!std::isfinite(Q))
+            throw InputError(spec_.source.where(),
+                             fmt::format("source: \"{}\" gives {:g} at ({:g}, {:g}, {:g}), t = "
+                                         "{:g}, T = {:g}; expected a finite value",
+                                         spec_.source.text(), Q, p.x(), p.y(), p.z(), t1, Tq));
+          double m = 0;  // the matrix's −∂Q/∂T, where it is >= 0
+          if (matrix && spec_.source.depends_on_temperature()) {
+            const double h = 1e-6 * std::max(1.0, std::abs(Tq));
+            const double dQ = (ex.source(p.x(), p.y(), p.z(), t1, Tq + h) -
+                               ex.source(p.x(), p.y(), p.z(), t1, Tq - h)) /
+                              (2 * h);
+            if (std::isfinite(dQ) && dQ < 0) m = -dQ;
+          }
+          for (int a = 0; a < n; ++a) {
+            r[a] -= Q * N[a] * dv;
+            sr[a] += std::abs(Q) * N[a] * dv;
+            if (m > 0)
+              for (int bb = 0; bb < n; ++bb) ke[a * n + bb] += theta * m * N[a] * N[bb] * dv;
+          }
+        }
+        if (transient) {
+          const double H = cap.enthalpy(Tq), H0 = cap.enthalpy(T0q);
+          const double m = cap.rho_c(Tq) * inv_dt;
+          for (int a = 0; a < n; ++a) {
+            c[a] += (H - H0) * N[a] * dv;
+            sc[a] += (std::abs(H) + std::abs(H0)) * N[a] * dv;
+            if (matrix && m > 0)
+              for (int bb = 0; bb < n; ++bb) ke[a * n + bb] += m * N[a] * N[bb] * dv;
+          }
+        }
+      }
+      // The cell's faces with a flux, convection or radiation condition.
+      const auto& faces = model_.heat_faces();
+      for (int i = model_.heat_face_start(e); i < model_.heat_face_start(e + 1); ++i) {
+        const HeatFace& hf = faces[i];
+        const HeatBoundarySpec& bc = spec_.boundary[hf.boundary];
+        const auto fnodes = mesh.faces.nodes(hf.face);
+        const int nf = static_cast<int>(fnodes.size());
+        const CellType ft = mesh.faces.type[hf.face];
+        const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
+        Vec3 xf[max_cell_nodes];
+        for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
+        const std::span<const Vec3> xfs(xf, nf);
+        for (int q = 0; q < ftab.n_points; ++q) {
+          const double da = face_normal(ftab, q, xfs).norm() * ftab.weights[q];
+          const double* N = &ftab.N[static_cast<std::size_t>(q) * nf];
+          double Tq = 0;
+          for (int a = 0; a < nf; ++a) Tq += N[a] * Te[hf.local[a]];
+          const FaceFlux f = face_flux(bc, ex.value[hf.boundary], ex.ambient[hf.boundary], spec_,
+                                       point_position(ftab, q, xfs), t1, Tq);
+          for (int a = 0; a < nf; ++a) {
+            const int la = hf.local[a];
+            r[la] -= f.q * N[a] * da;
+            sr[la] += f.scale * N[a] * da;
+            if (matrix && f.dq_dT < 0)
+              for (int bb = 0; bb < nf; ++bb)
+                ke[la * n + hf.local[bb]] -= theta * f.dq_dT * N[a] * N[bb] * da;
+          }
+        }
+      }
+      for (int a = 0; a < n; ++a) {
+        const int node = nodes[a];
+        R[node] += r[a];
+        SR[node] += sr[a];
+        C[node] += c[a];
+        SC[node] += sc[a];
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+  };
+  if (matrix)
+    system_->assemble_cells(kernel);
+  else
+    model_.heat_assembler().matrices(kernel, [](int, const double*) {}, system_->own_cells());
+  // Every rank stops on an error one of them found: the one that found it says what.
+  if (par::any(error != nullptr)) {
+    if (error) std::rethrow_exception(error);
+    throw InputError(SourceLocation{model_.spec().file.string(), 0, 0, "heat"},
+                     "the heat analysis met an input error on another MPI rank");
+  }
+  if (system_->own_cells()) par::sum_in_place(std::span<double>(sums));
+  ev.R.assign(R, R + n_nodes);
+  ev.SR.assign(SR, SR + n_nodes);
+  ev.C.assign(C, C + n_nodes);
+  ev.SC.assign(SC, SC + n_nodes);
+  ev.G.resize(n_nodes);
+  ev.S.resize(n_nodes);
+  for (int i = 0; i < n_nodes; ++i) {
+    if (transient) {
+      ev.G[i] = ev.C[i] * inv_dt + theta * ev.R[i] + (1 - theta) * R_last_[i];
+      ev.S[i] = ev.SC[i] * inv_dt + theta * ev.SR[i] + (1 - theta) * S_last_[i];
+    } else {
+      ev.G[i] = ev.R[i];
+      ev.S[i] = ev.SR[i];
+    }
+  }
+}
+
+void HeatSolver::natural_flows(const std::vector<double>& T, double t,
+                               std::vector<double>& q) const {
+  const Mesh& mesh = model_.mesh();
+  const PointExpressions& ex = expressions_[0];
+  q.assign(spec_.boundary.size(), 0.0);
+  Vec3 xf[max_cell_nodes];
+  for (const HeatFace& hf : model_.heat_faces()) {
+    const auto fnodes = mesh.faces.nodes(hf.face);
+    const int nf = static_cast<int>(fnodes.size());
+    const CellType ft = mesh.faces.type[hf.face];
+    const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
+    for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
+    const std::span<const Vec3> xfs(xf, nf);
+    for (int k = 0; k < ftab.n_points; ++k) {
+      const double* N = &ftab.N[static_cast<std::size_t>(k) * nf];
+      double Tq = 0;
+      for (int a = 0; a < nf; ++a) Tq += N[a] * T[fnodes[a]];
+      const double da = face_normal(ftab, k, xfs).norm() * ftab.weights[k];
+      q[hf.boundary] += face_flux(spec_.boundary[hf.boundary], ex.value[hf.boundary],
+                                  ex.ambient[hf.boundary], spec_, point_position(ftab, k, xfs),
+                                  t, Tq)
+                            .q *
+                        da;
+    }
+  }
+}
+
+bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, std::string& why) {
+  const auto& eq = model_.heat_dofs().eq;
+  const int n_free = model_.heat_dofs().n_free;
+  const bool transient = spec_.transient;
+  const double dt = t1 - from.time;
+  to.time = t1;
+  to.T = from.T;
+  fixed_temperatures(t1, to.T);
+  Evaluation ev;
+  std::vector<double> rhs(n_free), dT(n_free);
+  double r_first = 0;
+  for (int it = 0;; ++it) {
+    // A linear problem keeps its factor while Δt does.
+    const bool matrix = !linear_ || factored_dt_ != (transient ? dt : 0.0);
+    evaluate(to.T, from, t1, matrix && n_free > 0, ev);
+    const double g = norm(ev.G, eq), s = norm(ev.S, eq);
+    const double r = s > 0 ? g / s : 0.0;
+    if (!std::isfinite(r)) {
+      why = fmt::format("the temperatures are no longer finite numbers after {} iterations", it);
+      return false;
+    }
+    if (r <= spec_.tolerance || n_free == 0) {
+      iterations_ += it;
+      log_.detail("heat t = {:g}: {} iterations, relative residual {:.2e}", t1, it, r);
+      natural_flows(to.T, t1, to.flow_now);
+      const double theta = transient ? spec_.theta : 1.0;
+      const std::vector<double>& q0 = snapshots_.empty() ? to.flow_now : from.flow_now;
+      to.flow.assign(spec_.boundary.size(), 0.0);
+      for (std::size_t b = 0; b < spec_.boundary.size(); ++b)
+        to.flow[b] = theta * to.flow_now[b] + (1 - theta) * q0[b];
+      const auto& fixed = model_.heat_fixed();
+      for (std::size_t n = 0; n < fixed.size(); ++n)
+        if (fixed[n] >= 0) to.flow[fixed[n]] += ev.G[n];
+      R_last_ = std::move(ev.R);
+      S_last_ = std::move(ev.SR);
+      return true;
+    }
+    if (it == 0) r_first = r;
+    if (it >= spec_.max_iterations || (it > 2 && r > 1e6 * r_first)) {
+      why = fmt::format("no convergence in {} Newton iterations (relative residual {:.2e})", it,
+                        r);
+      return false;
+    }
+    try {
+      if (matrix) {
+        system_->factorize();
+        if (linear_) factored_dt_ = transient ? dt : 0.0;
+      }
+      for (std::size_t n = 0; n < eq.size(); ++n)
+        if (eq[n] >= 0) rhs[eq[n]] = -ev.G[n];
+      system_->solve(rhs, dT);
+    } catch (const LinearSystemError& e) {
+      factored_dt_ = -1;
+      why = e.what();
+      return false;
+    }
+    for (std::size_t n = 0; n < eq.size(); ++n)
+      if (eq[n] >= 0) to.T[n] += dT[eq[n]];
+  }
+}
+
+void HeatSolver::advance(double target) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool own = !spec_.times.empty();
+  const double t_end = own ? spec_.times[std::min(next_target_, spec_.times.size() - 1)] : target;
+  if (own && next_target_ >= spec_.times.size())
+    throw std::logic_error("heat: asked for a time after its last step");
+  // Targets to reach, each with its cut-back depth (as the mechanical step control).
+  std::vector<std::pair<double, int>> targets = {{t_end, 0}};
+  while (!targets.empty()) {
+    const auto [t1, depth] = targets.back();
+    HeatSnapshot to;
+    std::string why;
+    if (solve(snapshots_.back(), t1, to, why)) {
+      snapshots_.push_back(std::move(to));
+      targets.pop_back();
+      ++steps_;
+      log_.info("heat {:4d}  t = {:<10.6g} {}", steps_, t1,
+                spec_.transient ? "transient" : "steady");
+      continue;
+    }
+    const double t0 = snapshots_.back().time, mid = 0.5 * (t0 + t1);
+    if (depth >= model_.spec().solver.cutback || !(mid > t0 && mid < t1))
+      throw HeatDivergence(fmt::format("heat: the step to t = {:g} did not converge after {} "
+                                       "cut-backs: {}",
+                                       t1, depth, why));
+    log_.info("heat: step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
+    targets.back().second = depth + 1;
+    targets.push_back({mid, depth + 1});
+  }
+  if (own) ++next_target_;
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void HeatSolver::at(double t, std::vector<double>& T, std::vector<double>& flow) {
+  if (snapshots_.empty()) start();
+  const double eps = 1e-12 * std::max(1.0, std::abs(t));
+  while (snapshots_.back().time < t - eps) advance(t);
+  std::size_t i = snapshots_.size() - 1;
+  while (i > 0 && snapshots_[i - 1].time >= t - eps) --i;
+  // snapshots_[i] is the first at or after t.
+  const HeatSnapshot& b = snapshots_[i];
+  if (std::abs(b.time - t) <= eps || i == 0) {
+    if (b.time > t + eps) throw std::logic_error("heat: asked for a time before its snapshots");
+    T = b.T;
+    flow = b.flow;
+    return;
+  }
+  const HeatSnapshot& a = snapshots_[i - 1];
+  const double s = (t - a.time) / (b.time - a.time);
+  T.resize(b.T.size());
+  for (std::size_t n = 0; n < T.size(); ++n) T[n] = a.T[n] + s * (b.T[n] - a.T[n]);
+  flow.resize(b.flow.size());
+  for (std::size_t k = 0; k < flow.size(); ++k) flow[k] = a.flow[k] + s * (b.flow[k] - a.flow[k]);
+}
+
+void HeatSolver::committed(double t) {
+  const double eps = 1e-12 * std::max(1.0, std::abs(t));
+  while (snapshots_.size() > 1 && snapshots_[1].time <= t + eps) snapshots_.pop_front();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::vector<double> nodal_heat_flux(const Model& model, const std::vector<double>& T) {
+  const Mesh& mesh = model.mesh();
+  std::vector<double> q(3 * static_cast<std::size_t>(mesh.n_nodes()), 0.0);
+  std::vector<int> count(mesh.n_nodes(), 0);
+  double dN[3 * max_cell_nodes];
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    const auto nodes = mesh.cells.nodes(e);
+    const int n = static_cast<int>(nodes.size());
+    const CellType type = mesh.cells.type[e];
+    const double* xi = node_coordinates(type);
+    const MaterialSpec& mat = *model.material_of(e).spec;
+    for (int a = 0; a < n; ++a) {
+      shape_gradients(type, xi + 3 * a, dN);
+      Mat3 J = Mat3::Zero();  // J(i, k) = dx_i / dξ_k
+      for (int b = 0; b < n; ++b)
+        for (int k = 0; k < 3; ++k) J.col(k) += mesh.x[nodes[b]] * dN[3 * b + k];
+      if (!(J.determinant() > 0)) continue;
+      const Mat3 Jinv_t = J.inverse().transpose();
+      Vec3 g = Vec3::Zero();
+      for (int b = 0; b < n; ++b)
+        g += Jinv_t * Vec3(dN[3 * b], dN[3 * b + 1], dN[3 * b + 2]) * T[nodes[b]];
+      const Vec3 qa = -mat.conductivity(T[nodes[a]]) * g;
+      for (int d = 0; d < 3; ++d) q[3 * nodes[a] + d] += qa[d];
+      ++count[nodes[a]];
+    }
+  }
+  for (int m = 0; m < mesh.n_nodes(); ++m)
+    if (count[m] > 0)
+      for (int d = 0; d < 3; ++d) q[3 * m + d] /= count[m];
+  return q;
+}
+
+}  // namespace hencky
