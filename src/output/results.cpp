@@ -74,12 +74,30 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
 std::vector<Vec3> region_reactions(const Model& model, const State& state) {
   std::vector<Vec3> out;
   for (const auto& r : model.reaction_regions()) {
+    if (!r.force) continue;
     Vec3 f = Vec3::Zero();
     for (int n : r.region->nodes)
       for (int d = 0; d < 3; ++d)
         f[d] += state.f_int[3 * n + d] - state.f_ext[3 * n + d] - state.f_contact[3 * n + d];
     out.push_back(f);
   }
+  return out;
+}
+
+HeatFlows heat_flows(const Model& model, const State& state) {
+  HeatFlows out;
+  const auto& bcs = model.spec().heat.boundary;
+  auto through = [&](const std::string& region, bool fixed_only) {
+    double q = 0;
+    for (std::size_t b = 0; b < bcs.size() && b < state.heat_flow.size(); ++b)
+      if (bcs[b].region == region &&
+          (!fixed_only || bcs[b].kind == HeatBoundarySpec::Kind::temperature))
+        q += state.heat_flow[b];
+    return q;
+  };
+  for (const auto& r : model.reaction_regions())
+    if (r.heat) out.reactions.push_back(through(r.name, true));
+  for (const auto& name : model.spec().output.heat_flows) out.flows.push_back(through(name, false));
   return out;
 }
 
@@ -199,7 +217,11 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
              << ".temperature";
   }
   for (const auto& r : model_.reaction_regions())
-    for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+    if (r.force)
+      for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+  for (const auto& r : model_.reaction_regions())
+    if (r.heat) history_ << ",reaction." << r.name << ".heat";
+  for (const auto& name : model_.spec().output.heat_flows) history_ << ",heat_flow." << name;
   for (const auto& c : model_.contacts())
     history_ << ",contact." << c.spec->name << ".force,contact." << c.spec->name << ".nodes";
   // Added after the contract's columns (scripts that read by name or position keep working).
@@ -265,11 +287,31 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
         j[strain_fields[i]][paraview_names[c]] = tensor_component(*strains[i], c);
     j["equivalent_elastoplastic_strain"] = v.eps_ep;
   }
-  for (std::size_t k = 0; k < reactions.size(); ++k)
-    for (int d = 0; d < 3; ++d) {
-      history_ << fmt::format(",{:.17g}", reactions[k][d]);
-      reaction_json[model_.reaction_regions()[k].name][axes[d]] = reactions[k][d];
+  {
+    std::size_t k = 0;
+    for (const auto& r : model_.reaction_regions())
+      if (r.force) {
+        for (int d = 0; d < 3; ++d) {
+          history_ << fmt::format(",{:.17g}", reactions[k][d]);
+          reaction_json[r.name][axes[d]] = reactions[k][d];
+        }
+        ++k;
+      }
+  }
+  const HeatFlows heat = heat_flows(model_, state);
+  nlohmann::json heat_json = nlohmann::json::object();
+  {
+    std::size_t k = 0;
+    for (const auto& r : model_.reaction_regions())
+      if (r.heat) {
+        history_ << fmt::format(",{:.17g}", heat.reactions[k]);
+        reaction_json[r.name]["heat"] = heat.reactions[k++];
+      }
+    for (std::size_t i = 0; i < heat.flows.size(); ++i) {
+      history_ << fmt::format(",{:.17g}", heat.flows[i]);
+      heat_json[model_.spec().output.heat_flows[i]] = heat.flows[i];
     }
+  }
   const auto contacts = contact_totals(model_, state);
   nlohmann::json contact_json = nlohmann::json::object();
   for (std::size_t k = 0; k < contacts.size(); ++k) {
@@ -295,6 +337,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   history_ << '\n';
   history_.flush();
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
+  if (model_.has_heat()) final_values_["heat_flows"] = heat_json;
 
   if (!report.write_fields) return;
 
@@ -332,7 +375,9 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   const auto or_zero = [&](const std::vector<double>& v) {
     return v.empty() ? zero1 : std::span<const double>(v);
   };
-  const VtuField point_fields[] = {
+  const std::vector<double> heat_flux =
+      model_.has_heat() ? nodal_heat_flux(model_, state.nodal_temperature) : std::vector<double>();
+  std::vector<VtuField> point_fields = {
       {"displacement", 3, state.u},
       {"stress", 6, stress},
       {"von_mises", 1, vm},
@@ -348,6 +393,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
       {"thermal_strain", 6, eps_th},
       {"equivalent_elastoplastic_strain", 1, or_zero(fields.nodal_eps_ep)},
   };
+  if (model_.has_heat()) point_fields.push_back({"heat_flux", 3, heat_flux});  // issue 18
   const VtuField cell_fields[] = {{"stress", 6, cell_stress},
                                   {"von_mises", 1, fields.cell_von_mises},
                                   {"equivalent_plastic_strain", 1, fields.cell_eps_p_eq},

@@ -41,6 +41,14 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
 /// F_contact).
 std::vector<Vec3> region_reactions(const Model& model, const State& state);
 
+/// Heat into the body (W) through each region of output.reactions with a temperature condition
+/// (reaction.<region>.heat), then through each region of output.heat_flows
+/// (heat_flow.<region>): the sums of the flows of the heat.boundary entries that name it.
+struct HeatFlows {
+  std::vector<double> reactions, flows;
+};
+HeatFlows heat_flows(const Model& model, const State& state);
+
 /// contact_totals (contact/contact.hpp) of every contact of the model, in case order.
 std::vector<ContactTotals> contact_totals(const Model& model, const State& state);
 

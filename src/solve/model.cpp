@@ -484,10 +484,10 @@ void Model::bind_outputs() {
   for (std::size_t k = 0; k < out.reactions.size(); ++k) {
     const Region& r = find_region(out.reactions[k], out.reaction_where[k], 0, 3, "region");
     bool any = false, heat = false;
-    for (int n : r.nodes) {
+    for (int n : r.nodes)
       for (int d = 0; d < 3; ++d) any = any || dofs_.eq[3 * n + d] < 0;
-      heat = heat || (!heat_fixed_.empty() && heat_fixed_[n] >= 0);
-    }
+    for (const auto& b : case_->heat.boundary)
+      heat = heat || (b.kind == HeatBoundarySpec::Kind::temperature && b.region == r.name);
     if (!any && !heat)
       throw InputError(out.reaction_where[k],
                        fmt::format("region '{}' has no prescribed displacement{}, so it carries "

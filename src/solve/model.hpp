@@ -57,7 +57,9 @@ struct ReactionRegion {
   std::string name;
   const Region* region;
   bool force = true;  ///< some node has a prescribed displacement: reaction.<name>.x|y|z
-  bool heat = false;  ///< some node has a prescribed temperature: reaction.<name>.heat
+  /// A heat.boundary temperature condition names the region: reaction.<name>.heat, the heat
+  /// into the body through its nodes (the sum of those conditions' flows).
+  bool heat = false;
 };
 
 class Model {
