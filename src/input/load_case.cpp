@@ -39,6 +39,11 @@ std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_f
   Timings timings;
   r->result = run_analysis(*r->loaded.model, *solver, log, timings, r->states, heat.get());
   r->solver_stats = solver->stats();
+  if (heat) {
+    r->heat_steps = heat->steps();
+    r->heat_iterations = heat->iterations();
+    r->heat_gmres_iterations = heat->gmres_iterations();
+  }
   return r;
 }
 

@@ -42,6 +42,8 @@ struct InProcessRun {
   AnalysisResult result;
   KeepLastState states;
   LinearSolverStats solver_stats;  ///< analyses, factorizations, solves of the run
+  /// The heat analysis's steps, Newton iterations and GMRES iterations (heat section only).
+  int heat_steps = 0, heat_iterations = 0, heat_gmres_iterations = 0;
 };
 std::unique_ptr<InProcessRun> run_in_process(const std::filesystem::path& case_file, Log& log,
                                              const std::string& petsc_options = "");

@@ -23,7 +23,8 @@ struct AnalysisResult {
 };
 
 /// `heat`: the heat analysis of a case with temperature: {from: heat} (make_heat_solver,
-/// solve/driver.hpp); its divergence stops the run as a step's does.
+/// solve/driver.hpp; made here on the case's options when not given); its divergence stops
+/// the run as a step's does.
 AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
                             StepObserver& observer, HeatSolver* heat = nullptr);
 

@@ -103,6 +103,9 @@ HeatSolver::HeatSolver(const Model& model, const SystemFactory& make_system, Log
     if (spec_.transient)
       linear_ = linear_ && m.spec->density.is_constant() && m.spec->specific_heat.is_constant();
   }
+  nonsymmetric_ = spec_.source.depends_on_temperature();
+  for (const MaterialModel& m : model.materials())
+    nonsymmetric_ = nonsymmetric_ || !m.spec->conductivity.is_constant();
   for (const auto& b : spec_.boundary)
     if (b.kind == HeatBoundarySpec::Kind::radiation ||
         (b.kind == HeatBoundarySpec::Kind::convection && !b.value.is_constant()))
@@ -126,6 +129,7 @@ void HeatSolver::start() {
                             : T_ref;
   }
   s0.flow.assign(spec_.boundary.size(), 0.0);
+  s0.energy.assign(spec_.boundary.size(), 0.0);
   const auto t_start = std::chrono::steady_clock::now();
   if (spec_.transient) {
     Evaluation ev;
@@ -218,7 +222,7 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
   const bool transient = spec_.transient;
   const double dt = t1 - from.time;
   // The matrix of G: ∂C/∂T / Δt + θ ∂R/∂T (transient), ∂R/∂T (steady).
-  const double theta = transient ? spec_.theta : 1.0;
+  const double theta = transient ? theta_ : 1.0;
   const double inv_dt = transient && dt > 0 ? 1.0 / dt : 0.0;
   const bool source = !(spec_.source.is_constant() && spec_.source(0, 0, 0, 0) == 0);
   std::exception_ptr error;
@@ -412,8 +416,9 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
   std::vector<double> rhs(n_free), dT(n_free);
   double r_first = 0;
   for (int it = 0;; ++it) {
-    // A linear problem keeps its factor while Δt does.
-    const bool matrix = !linear_ || factored_dt_ != (transient ? dt : 0.0);
+    // A linear problem keeps its factor while Δt and θ do.
+    const double key = transient ? dt * (2 - theta_) : 0.0;  // one number for (Δt, θ ∈ [½, 1])
+    const bool matrix = !linear_ || factored_dt_ != key;
     evaluate(to.T, from, t1, matrix && n_free > 0, ev);
     const double g = norm(ev.G, eq), s = norm(ev.S, eq);
     const double r = s > 0 ? g / s : 0.0;
@@ -425,7 +430,7 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       iterations_ += it;
       log_.detail("heat t = {:g}: {} iterations, relative residual {:.2e}", t1, it, r);
       natural_flows(to.T, t1, to.flow_now);
-      const double theta = transient ? spec_.theta : 1.0;
+      const double theta = transient ? theta_ : 1.0;
       const std::vector<double>& q0 = snapshots_.empty() ? to.flow_now : from.flow_now;
       to.flow.assign(spec_.boundary.size(), 0.0);
       for (std::size_t b = 0; b < spec_.boundary.size(); ++b)
@@ -433,6 +438,9 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       const auto& fixed = model_.heat_fixed();
       for (std::size_t n = 0; n < fixed.size(); ++n)
         if (fixed[n] >= 0) to.flow[fixed[n]] += ev.G[n];
+      to.energy = from.energy;
+      to.energy.resize(to.flow.size(), 0.0);
+      for (std::size_t b = 0; b < to.flow.size(); ++b) to.energy[b] += to.flow[b] * dt;
       R_last_ = std::move(ev.R);
       S_last_ = std::move(ev.SR);
       return true;
@@ -446,11 +454,18 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
     try {
       if (matrix) {
         system_->factorize();
-        if (linear_) factored_dt_ = transient ? dt : 0.0;
+        if (linear_) factored_dt_ = key;
       }
       for (std::size_t n = 0; n < eq.size(); ++n)
         if (eq[n] >= 0) rhs[eq[n]] = -ev.G[n];
       system_->solve(rhs, dT);
+      // The whole Newton step, to a relative residual that falls with G's (quadratic
+      // convergence) but need not go below a tenth of the tolerance.
+      if (nonsymmetric_ &&
+          !gmres(to.T, from, t1, rhs, dT, std::clamp(0.1 * r, 0.1 * spec_.tolerance, 1e-2))) {
+        why = "the Newton step's linear solve (GMRES) did not converge";
+        return false;
+      }
     } catch (const LinearSystemError& e) {
       factored_dt_ = -1;
       why = e.what();
@@ -461,6 +476,176 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
   }
 }
 
+void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot& from,
+                                double t1, const std::vector<double>& v,
+                                std::vector<double>& out) {
+  const Mesh& mesh = model_.mesh();
+  out.assign(mesh.n_nodes(), 0.0);
+  const bool transient = spec_.transient;
+  const double theta = transient ? theta_ : 1.0;
+  const double dt = t1 - from.time, inv_dt = transient && dt > 0 ? 1.0 / dt : 0.0;
+  const bool source_of_T = spec_.source.depends_on_temperature();
+  // As evaluate(): colour by colour, each cell adds into the nodes' sums itself. The values
+  // met here were all evaluated (and checked) by evaluate() at the same T.
+  auto kernel = [&](int e, CellBuffers&) {
+    const auto nodes = mesh.cells.nodes(e);
+    const int n = static_cast<int>(nodes.size());
+    const CellType type = mesh.cells.type[e];
+    const ReferenceTable& tab = reference_table(type, heat_degree(type));
+    const MaterialSpec& mat = *model_.material_of(e).spec;
+    const HeatCapacity& cap = capacity_[model_.material_index(e)];
+    const PointExpressions& ex = expressions_[omp_get_thread_num()];
+    Vec3 x[max_cell_nodes];
+    double Te[max_cell_nodes], ve[max_cell_nodes], dNdx[3 * max_cell_nodes];
+    double o[max_cell_nodes] = {};
+    for (int a = 0; a < n; ++a) {
+      x[a] = mesh.x[nodes[a]];
+      Te[a] = T[nodes[a]];
+      ve[a] = v[nodes[a]];
+    }
+    const std::span<const Vec3> xs(x, n);
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
+      const double* N = &tab.N[static_cast<std::size_t>(q) * n];
+      double Tq = 0, vq = 0;
+      Vec3 g = Vec3::Zero(), gv = Vec3::Zero();
+      for (int a = 0; a < n; ++a) {
+        const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+        Tq += N[a] * Te[a];
+        vq += N[a] * ve[a];
+        g += ga * Te[a];
+        gv += ga * ve[a];
+      }
+      const double k = mat.conductivity(Tq), dk = mat.conductivity.slope(Tq);
+      double m = transient ? cap.rho_c(Tq) * inv_dt : 0.0;  // the N N terms
+      if (source_of_T) {
+        const Vec3 p = point_position(tab, q, xs);
+        const double h = 1e-6 * std::max(1.0, std::abs(Tq));
+        m -= theta *
+             (ex.source(p.x(), p.y(), p.z(), t1, Tq + h) -
+              ex.source(p.x(), p.y(), p.z(), t1, Tq - h)) /
+             (2 * h);
+      }
+      for (int a = 0; a < n; ++a) {
+        const Vec3 ga(dNdx[3 * a], dNdx[3 * a + 1], dNdx[3 * a + 2]);
+        o[a] += (theta * (k * ga.dot(gv) + dk * vq * ga.dot(g)) + m * N[a] * vq) * dv;
+      }
+    }
+    const auto& faces = model_.heat_faces();
+    for (int i = model_.heat_face_start(e); i < model_.heat_face_start(e + 1); ++i) {
+      const HeatFace& hf = faces[i];
+      const auto fnodes = mesh.faces.nodes(hf.face);
+      const int nf = static_cast<int>(fnodes.size());
+      const CellType ft = mesh.faces.type[hf.face];
+      const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
+      Vec3 xf[max_cell_nodes];
+      for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
+      const std::span<const Vec3> xfs(xf, nf);
+      for (int q = 0; q < ftab.n_points; ++q) {
+        const double da = face_normal(ftab, q, xfs).norm() * ftab.weights[q];
+        const double* N = &ftab.N[static_cast<std::size_t>(q) * nf];
+        double Tq = 0, vq = 0;
+        for (int a = 0; a < nf; ++a) {
+          Tq += N[a] * Te[hf.local[a]];
+          vq += N[a] * ve[hf.local[a]];
+        }
+        const FaceFlux f =
+            face_flux(spec_.boundary[hf.boundary], ex.value[hf.boundary], ex.ambient[hf.boundary],
+                      spec_, point_position(ftab, q, xfs), t1, Tq);
+        for (int a = 0; a < nf; ++a) o[hf.local[a]] -= theta * f.dq_dT * N[a] * vq * da;
+      }
+    }
+    for (int a = 0; a < n; ++a) out[nodes[a]] += o[a];
+  };
+  model_.heat_assembler().matrices(kernel, [](int, const double*) {}, system_->own_cells());
+  if (system_->own_cells()) par::sum_in_place(std::span<double>(out));
+}
+
+bool HeatSolver::gmres(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+                       const std::vector<double>& b, std::vector<double>& x, double rtol) {
+  // Right-preconditioned GMRES (Saad, Iterative Methods for Sparse Linear Systems, 9.3.2) on
+  // dG/dT P⁻¹ y = b, x = x0 + P⁻¹ y, from x0 = P⁻¹ b (the step of the symmetric part): the
+  // preconditioned operator is the identity plus what P leaves out, so that a few iterations
+  // do. The preconditioned vectors z_j are kept (m of them), which saves solving again.
+  const auto& eq = model_.heat_dofs().eq;
+  const std::size_t nf = b.size(), nn = eq.size();
+  constexpr int m = 30;
+  std::vector<double> full(nn), Jv(nn);
+  auto apply = [&](const std::vector<double>& z, std::vector<double>& out) {  // out = J z
+    for (std::size_t i = 0; i < nn; ++i) full[i] = eq[i] >= 0 ? z[eq[i]] : 0.0;
+    jacobian_times(T, from, t1, full, Jv);
+    out.resize(nf);
+    for (std::size_t i = 0; i < nn; ++i)
+      if (eq[i] >= 0) out[eq[i]] = Jv[i];
+  };
+  auto dot = [](const std::vector<double>& u, const std::vector<double>& w) {
+    double s = 0;
+    for (std::size_t i = 0; i < u.size(); ++i) s += u[i] * w[i];
+    return s;
+  };
+  const double b_norm = std::sqrt(dot(b, b));
+  if (!(b_norm > 0)) return true;
+  std::vector<double> r;
+  apply(x, r);
+  for (std::size_t i = 0; i < nf; ++i) r[i] = b[i] - r[i];
+  for (int restart = 0; restart < 3; ++restart) {
+    const double beta = std::sqrt(dot(r, r));
+    if (beta <= rtol * b_norm) return true;
+    std::vector<std::vector<double>> V(1, r), Z;
+    for (double& v : V[0]) v /= beta;
+    std::vector<std::vector<double>> H(m + 1, std::vector<double>(m, 0.0));
+    std::vector<double> cs(m), sn(m), g(m + 1, 0.0);
+    g[0] = beta;
+    int j = 0;
+    for (; j < m; ++j) {
+      Z.emplace_back(nf);
+      system_->solve(V[j], Z[j]);
+      std::vector<double> w;
+      apply(Z[j], w);
+      ++gmres_iterations_;
+      for (int i = 0; i <= j; ++i) {  // modified Gram–Schmidt
+        H[i][j] = dot(w, V[i]);
+        for (std::size_t k = 0; k < nf; ++k) w[k] -= H[i][j] * V[i][k];
+      }
+      H[j + 1][j] = std::sqrt(dot(w, w));
+      for (int i = 0; i < j; ++i) {  // the earlier rotations on the new column
+        const double a = H[i][j], c = H[i + 1][j];
+        H[i][j] = cs[i] * a + sn[i] * c;
+        H[i + 1][j] = -sn[i] * a + cs[i] * c;
+      }
+      const double d = std::hypot(H[j][j], H[j + 1][j]);
+      cs[j] = H[j][j] / d;
+      sn[j] = H[j + 1][j] / d;
+      H[j][j] = d;
+      H[j + 1][j] = 0;
+      g[j + 1] = -sn[j] * g[j];
+      g[j] = cs[j] * g[j];
+      const bool done = std::abs(g[j + 1]) <= rtol * b_norm;
+      if (!done && j + 1 < m) {  // the next basis vector
+        V.emplace_back(w);
+        const double hn = std::sqrt(dot(w, w));
+        if (hn > 0)
+          for (double& v : V.back()) v /= hn;
+      }
+      if (done) {
+        ++j;
+        break;
+      }
+    }
+    std::vector<double> y(j);
+    for (int i = j - 1; i >= 0; --i) {
+      double s = g[i];
+      for (int k = i + 1; k < j; ++k) s -= H[i][k] * y[k];
+      y[i] = s / H[i][i];
+    }
+    for (int i = 0; i < j; ++i)
+      for (std::size_t k = 0; k < nf; ++k) x[k] += y[i] * Z[i][k];
+    apply(x, r);
+    for (std::size_t i = 0; i < nf; ++i) r[i] = b[i] - r[i];
+  }
+  return std::sqrt(dot(r, r)) <= rtol * b_norm;
+}
+
 void HeatSolver::advance(double target) {
   const auto start = std::chrono::steady_clock::now();
   const bool own = !spec_.times.empty();
@@ -469,6 +654,13 @@ void HeatSolver::advance(double target) {
     throw std::logic_error("heat: asked for a time after its last step");
   // Targets to reach, each with its cut-back depth (as the mechanical step control).
   std::vector<std::pair<double, int>> targets = {{t_end, 0}};
+  // Crank–Nicolson (θ < 1) starts with two backward-Euler half steps (Rannacher, Numer. Math.
+  // 43, 1984): θ near ½ damps hardly at all the oscillation that initial temperatures which do
+  // not meet the boundary conditions (a sudden surface temperature) leave, and it costs its
+  // order; a fixed number of first-order steps at the start keeps the second order.
+  const bool rannacher = spec_.transient && spec_.theta < 1 && steps_ == 0;
+  if (rannacher) targets.push_back({0.5 * (snapshots_.back().time + t_end), 0});
+  theta_ = rannacher ? 1.0 : spec_.theta;
   while (!targets.empty()) {
     const auto [t1, depth] = targets.back();
     HeatSnapshot to;
@@ -478,7 +670,9 @@ void HeatSolver::advance(double target) {
       targets.pop_back();
       ++steps_;
       log_.info("heat {:4d}  t = {:<10.6g} {}", steps_, t1,
-                spec_.transient ? "transient" : "steady");
+                !spec_.transient ? "steady"
+                : rannacher      ? "transient (backward Euler start)"
+                                 : "transient");
       continue;
     }
     const double t0 = snapshots_.back().time, mid = 0.5 * (t0 + t1);
@@ -490,34 +684,54 @@ void HeatSolver::advance(double target) {
     targets.back().second = depth + 1;
     targets.push_back({mid, depth + 1});
   }
+  theta_ = spec_.theta;
   if (own) ++next_target_;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void HeatSolver::at(double t, std::vector<double>& T, std::vector<double>& flow) {
-  if (snapshots_.empty()) start();
+void HeatSolver::interpolate(double t, std::vector<double>* T, std::vector<double>& flow,
+                             std::vector<double>& energy) const {
   const double eps = 1e-12 * std::max(1.0, std::abs(t));
-  while (snapshots_.back().time < t - eps) advance(t);
   std::size_t i = snapshots_.size() - 1;
   while (i > 0 && snapshots_[i - 1].time >= t - eps) --i;
   // snapshots_[i] is the first at or after t.
   const HeatSnapshot& b = snapshots_[i];
   if (std::abs(b.time - t) <= eps || i == 0) {
     if (b.time > t + eps) throw std::logic_error("heat: asked for a time before its snapshots");
-    T = b.T;
+    if (T) *T = b.T;
     flow = b.flow;
+    energy = b.energy;
     return;
   }
   const HeatSnapshot& a = snapshots_[i - 1];
   const double s = (t - a.time) / (b.time - a.time);
-  T.resize(b.T.size());
-  for (std::size_t n = 0; n < T.size(); ++n) T[n] = a.T[n] + s * (b.T[n] - a.T[n]);
-  flow.resize(b.flow.size());
-  for (std::size_t k = 0; k < flow.size(); ++k) flow[k] = a.flow[k] + s * (b.flow[k] - a.flow[k]);
+  auto lerp = [s](const std::vector<double>& u, const std::vector<double>& v,
+                  std::vector<double>& out) {
+    out.resize(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) out[k] = u[k] + s * (v[k] - u[k]);
+  };
+  if (T) lerp(a.T, b.T, *T);
+  lerp(a.flow, b.flow, flow);
+  lerp(a.energy, b.energy, energy);
+}
+
+void HeatSolver::at(double t, std::vector<double>& T, std::vector<double>& flow) {
+  if (snapshots_.empty()) start();
+  const double eps = 1e-12 * std::max(1.0, std::abs(t));
+  while (snapshots_.back().time < t - eps) advance(t);
+  std::vector<double> energy;
+  interpolate(t, &T, flow, energy);
+  // A transient's flows: the mean over [committed, t], from the heat brought in, exact over
+  // any grid of heat steps (the energy is linear in time within a heat step).
+  if (!spec_.transient || !(t > committed_ + eps)) return;
+  std::vector<double> flow0, energy0;
+  interpolate(committed_, nullptr, flow0, energy0);
+  for (std::size_t k = 0; k < flow.size(); ++k) flow[k] = (energy[k] - energy0[k]) / (t - committed_);
 }
 
 void HeatSolver::committed(double t) {
   const double eps = 1e-12 * std::max(1.0, std::abs(t));
+  committed_ = t;
   while (snapshots_.size() > 1 && snapshots_[1].time <= t + eps) snapshots_.pop_front();
 }
 

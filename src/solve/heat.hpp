@@ -11,9 +11,12 @@
 // with H(T) = ∫ ρc dT the enthalpy per volume (so that the stored heat is exact for any ρ(T),
 // c(T)) and q_in the heat flux into the body of the flux, convection h (T∞ − T) and radiation
 // εσ ((T∞ − T_0)⁴ − (T − T_0)⁴) conditions (T_0 the absolute zero). Newton's matrix is dG/dT
-// without the term k'(T) N ∇T·∇N, which is not symmetric (the linear systems are): exact
-// Newton for c(T), ρ(T), radiation and convection, a linearly converging one for k(T); and a
-// source growing with T (dQ/dT > 0) leaves its term out, so that the matrix stays positive.
+// without the term k'(T) N ∇T·∇N, which is not symmetric (the linear systems are), and without
+// the −dQ/dT N N of a source that grows with T (which would make it indefinite): this symmetric
+// part is factorized. Where those terms exist (k(T) a table, Q of T), the Newton step solves
+// the whole dG/dT by GMRES with the factorized part as its (right) preconditioner, applying
+// dG/dT cell by cell without assembling it: Newton stays Newton (quadratic convergence), and
+// each step costs a few extra passes over the cells.
 #include <deque>
 #include <functional>
 #include <memory>
@@ -59,6 +62,7 @@ struct HeatSnapshot {
   /// condition the reaction of its nodes.
   std::vector<double> flow;
   std::vector<double> flow_now;  ///< the natural conditions' q(time) (the next step's q(t0))
+  std::vector<double> energy;    ///< per entry, the heat brought in since t = 0 (J; transient)
 };
 
 class HeatSolver {
@@ -75,7 +79,9 @@ class HeatSolver {
   /// The nodal temperatures and the heat flows of the heat.boundary entries at time t, no
   /// earlier than the last committed() time: the heat analysis is advanced to the first of
   /// its step times at or after t, and interpolated linearly in time between the two that
-  /// bracket t. The first call sets the solution at t = 0 up: the initial temperature
+  /// bracket t. A transient's flows are the mean over [last committed time, t] (the heat
+  /// brought in over that time divided by it: exact whatever the heat steps); a steady one's
+  /// are those at t. The first call sets the solution at t = 0 up: the initial temperature
   /// (transient) or the steady solution at t = 0. Throws HeatDivergence, and InputError for a
   /// value of the case that cannot be used (a negative film coefficient). Collective.
   void at(double t, std::vector<double>& T, std::vector<double>& flow);
@@ -84,6 +90,8 @@ class HeatSolver {
 
   int steps() const { return steps_; }
   int iterations() const { return iterations_; }
+  /// GMRES iterations of the Newton steps with k(T) or Q(T) (0 when there are none).
+  int gmres_iterations() const { return gmres_iterations_; }
   double seconds() const { return seconds_; }
   const LinearSolverStats& stats() const { return system_->stats(); }
 
@@ -99,6 +107,16 @@ class HeatSolver {
   /// Takes the next step (with cut-backs) toward `target`.
   void advance(double target);
   void natural_flows(const std::vector<double>& T, double t, std::vector<double>& q) const;
+  /// The snapshots' values at t (linear between the two that bracket it); T may be null.
+  void interpolate(double t, std::vector<double>* T, std::vector<double>& flow,
+                   std::vector<double>& energy) const;
+  /// out = dG/dT v at T (v and out per node, v zero at prescribed nodes). Collective.
+  void jacobian_times(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+                      const std::vector<double>& v, std::vector<double>& out);
+  /// The Newton step x of dG/dT x = b (free dofs) by right-preconditioned GMRES, from x = P⁻¹ b
+  /// (P the factorized symmetric part), to the relative residual rtol; false when it stalls.
+  bool gmres(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+             const std::vector<double>& b, std::vector<double>& x, double rtol);
   void fixed_temperatures(double t, std::vector<double>& T) const;
 
   const Model& model_;
@@ -111,7 +129,11 @@ class HeatSolver {
   std::vector<double> R_last_, S_last_;         ///< R and its scale at the newest snapshot
   std::size_t next_target_ = 0;                 ///< own steps (heat.times): the next one
   bool linear_ = false;     ///< the matrix depends on neither T nor t (only on Δt)
-  double factored_dt_ = -1; ///< Δt of the factorized matrix when linear_ (0: steady)
+  bool nonsymmetric_ = false;  ///< dG/dT has terms the factorized matrix leaves out
+  double theta_ = 1.0;         ///< θ of the step being taken (1 in the start of θ < 1)
+  double committed_ = 0;       ///< the mechanical analysis's last converged time
+  int gmres_iterations_ = 0;
+  double factored_dt_ = -1; ///< Δt(2 − θ) of the factorized matrix when linear_ (0: steady)
   int steps_ = 0, iterations_ = 0;
   double seconds_ = 0;
 };

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 #include <unordered_map>
 
@@ -507,6 +508,8 @@ void Model::nodal_temperature(double t, std::vector<double>& T) const {
       const Vec3& x = mesh_.x[n];
       T[n] = ts.field->eval_checked(x.x(), x.y(), x.z(), t, "temperature");
     }
+  } else if (ts.from_heat) {
+    throw std::logic_error("temperature from: heat is the heat analysis's (HeatSolver::at)");
   } else {
     std::fill(T.begin(), T.end(), reference_temperature_);
   }

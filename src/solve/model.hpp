@@ -110,7 +110,8 @@ class Model {
   const std::vector<HeatFace>& heat_faces() const { return heat_faces_; }
   int heat_face_start(int cell) const { return heat_face_start_[cell]; }
 
-  /// Nodal temperature at time t (T_ref everywhere without a temperature section).
+  /// Nodal temperature at time t (T_ref everywhere without a temperature section) of a field or
+  /// a file; temperatures from a heat analysis are the HeatSolver's.
   void nodal_temperature(double t, std::vector<double>& T) const;
   /// Prescribed displacement at time t written into the prescribed entries of u (3 per node).
   void prescribed_displacement(double t, std::vector<double>& u) const;

@@ -7,6 +7,7 @@
 #include <deque>
 
 #include "solve/analysis.hpp"
+#include "solve/driver.hpp"
 #include "solve/equilibrium.hpp"
 #include "solve/recovery.hpp"
 
@@ -96,6 +97,11 @@ void log_step(const Model& model, const Equilibrium& eq, const StepReport& repor
 AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
                             StepObserver& observer, HeatSolver* heat) {
   const auto& spec = model.spec().solver;
+  std::unique_ptr<HeatSolver> own_heat;  // a caller that made none: on the case's own options
+  if (!heat && model.has_heat()) {
+    own_heat = make_heat_solver(model, log);
+    heat = own_heat.get();
+  }
   Equilibrium eq(model, system, log, timings, heat);
   State committed = eq.initial_state(), trial = committed;
   AnalysisResult result;

@@ -18,6 +18,14 @@ double PropertyTable::operator()(double T, bool* outside) const {
   return value[i - 1] + s * (value[i] - value[i - 1]);
 }
 
+double PropertyTable::slope(double T) const {
+  if (value.size() < 2 || temperature.size() != value.size()) return 0.0;
+  if (T < temperature.front() || T >= temperature.back()) return 0.0;
+  const auto it = std::upper_bound(temperature.begin(), temperature.end(), T);
+  const std::size_t i = static_cast<std::size_t>(it - temperature.begin());  // >= 1
+  return (value[i] - value[i - 1]) / (temperature[i] - temperature[i - 1]);
+}
+
 double TemperatureFile::at(std::size_t row, double t) const {
   const std::size_t n = times.size();
   const double* v = values.data() + row * n;

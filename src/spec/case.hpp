@@ -35,6 +35,9 @@ struct PropertyTable {
   /// Value at temperature T, interpolated linearly. Outside the table the end value is used
   /// and *outside (when given) is set to true; otherwise it is set to false.
   double operator()(double T, bool* outside = nullptr) const;
+  /// dvalue/dT at T: the slope of the table's segment that holds T (the upper one at a table
+  /// temperature), 0 for a constant and outside the table.
+  double slope(double T) const;
   bool is_constant() const { return value.size() == 1; }
   /// A table that the temperatures T_min .. T_max leave (leaves_range); never a constant (nor
   /// a property that was not given).
