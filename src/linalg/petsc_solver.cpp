@@ -44,6 +44,7 @@ struct PetscSolver::Impl {
   VecScatter to_all = nullptr;
   KSP ksp = nullptr;
   bool assembled_once = false;
+  bool pending = false;  ///< values set since the matrix was last finished
 
   std::vector<std::string> option_names;  ///< the options this solver added: given, defaults
   std::size_t given_options = 0;          ///< how many of them were given
@@ -215,7 +216,11 @@ void PetscSolver::set_relative_tolerance(double rtol) {
 
 void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
   Impl& s = *impl_;
+  // A matrix assembled and then not used (a Newton iteration that converged on it) is finished
+  // first: PETSc zeroes finished matrices only.
+  if (s.pending) end_matrix();
   if (s.assembled_once) check_petsc(MatZeroEntries(s.A), "MatZeroEntries");
+  s.pending = true;
   for (std::size_t l = 0; l < s.owned.size(); ++l)
     for (int d = 0; d < s.k; ++d)
       if (s.dofs->eq[s.k * s.owned[l] + d] < 0) {
@@ -260,6 +265,7 @@ void PetscSolver::end_matrix() {
   check_petsc(MatAssemblyBegin(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check_petsc(MatAssemblyEnd(s.A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   s.assembled_once = true;
+  s.pending = false;
 }
 
 void PetscSolver::keep_cells() {

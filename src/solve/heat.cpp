@@ -414,7 +414,7 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
   fixed_temperatures(t1, to.T);
   Evaluation ev;
   std::vector<double> rhs(n_free), dT(n_free);
-  double r_first = 0;
+  double r_first = 0, last_correction = INFINITY, t_scale = 1.0;
   for (int it = 0;; ++it) {
     // A linear problem keeps its factor while Δt and θ do.
     const double key = transient ? dt * (2 - theta_) : 0.0;  // one number for (Δt, θ ∈ [½, 1])
@@ -426,9 +426,15 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       why = fmt::format("the temperatures are no longer finite numbers after {} iterations", it);
       return false;
     }
-    if (r <= spec_.tolerance || n_free == 0) {
+    // Every step takes at least one Newton step: a step whose temperatures barely change
+    // starts with a residual that is small against the magnitudes of its terms, and taking it
+    // as converged would freeze the temperatures (a slow approach to a steady state). A
+    // nonlinear step also needs its last correction small against the temperatures' range.
+    const bool stepped = it > 0 && (linear_ && !nonsymmetric_ ? true : last_correction <= 10 * spec_.tolerance * t_scale);
+    if ((r <= spec_.tolerance && stepped) || n_free == 0) {
       iterations_ += it;
-      log_.detail("heat t = {:g}: {} iterations, relative residual {:.2e}", t1, it, r);
+      last_iterations_ = it;
+      last_residual_ = r;
       natural_flows(to.T, t1, to.flow_now);
       const double theta = transient ? theta_ : 1.0;
       const std::vector<double>& q0 = snapshots_.empty() ? to.flow_now : from.flow_now;
@@ -471,8 +477,15 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       why = e.what();
       return false;
     }
-    for (std::size_t n = 0; n < eq.size(); ++n)
-      if (eq[n] >= 0) to.T[n] += dT[eq[n]];
+    last_correction = 0;
+    t_scale = 1.0;  // K (or °C): the temperatures' distance from T_ref, at least one degree
+    for (std::size_t n = 0; n < eq.size(); ++n) {
+      if (eq[n] >= 0) {
+        to.T[n] += dT[eq[n]];
+        last_correction = std::max(last_correction, std::abs(dT[eq[n]]));
+      }
+      t_scale = std::max(t_scale, std::abs(to.T[n] - model_.reference_temperature()));
+    }
   }
 }
 
@@ -669,17 +682,16 @@ void HeatSolver::advance(double target) {
       snapshots_.push_back(std::move(to));
       targets.pop_back();
       ++steps_;
-      log_.info("heat {:4d}  t = {:<10.6g} {}", steps_, t1,
-                !spec_.transient ? "steady"
-                : rannacher      ? "transient (backward Euler start)"
-                                 : "transient");
+      log_.info("heat {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}{}", steps_, t1,
+                last_iterations_, last_residual_,
+                rannacher ? "  (Crank-Nicolson's backward-Euler start)" : "");
       continue;
     }
     const double t0 = snapshots_.back().time, mid = 0.5 * (t0 + t1);
     if (depth >= model_.spec().solver.cutback || !(mid > t0 && mid < t1))
       throw HeatDivergence(fmt::format("heat: the step to t = {:g} did not converge after {} "
-                                       "cut-backs: {}",
-                                       t1, depth, why));
+                                       "cut-backs (the last to t = {:g}): {}",
+                                       t_end, depth, t1, why));
     log_.info("heat: step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
     targets.back().second = depth + 1;
     targets.push_back({mid, depth + 1});

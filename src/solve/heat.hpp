@@ -133,6 +133,8 @@ class HeatSolver {
   double theta_ = 1.0;         ///< θ of the step being taken (1 in the start of θ < 1)
   double committed_ = 0;       ///< the mechanical analysis's last converged time
   int gmres_iterations_ = 0;
+  int last_iterations_ = 0;     ///< of the last converged solve, for its log line
+  double last_residual_ = 0;
   double factored_dt_ = -1; ///< Δt(2 − θ) of the factorized matrix when linear_ (0: steady)
   int steps_ = 0, iterations_ = 0;
   double seconds_ = 0;

@@ -116,7 +116,9 @@ TEST(VerifyHeat, SlabWithLinearConductivityMeetsTheKirchhoffSolution) {
     // In 1D without source the flow is constant, and the ends' reactions give it exactly.
     for (std::size_t i = 0; i < e.size(); ++i) {
       EXPECT_LT(eq[i], 1e-12);
-      if (!quadratic) EXPECT_LT(e[i], 1e-12);
+      if (!quadratic) {
+        EXPECT_LT(e[i], 1e-12);
+      }
     }
     if (quadratic) {
       const double rate = observed_rate(h, e);

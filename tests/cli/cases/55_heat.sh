@@ -1,0 +1,73 @@
+# Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh and
+# 40_parallel.sh). Issue 18: heat conduction. The case is tests/cli/inputs/heat/case.yaml (a
+# transient with every kind of condition, k(T), c(T) and a source of T); its outputs, the same
+# run on the PETSc back end and on MPI ranks, a heat analysis that stops, and bad input.
+hd="$work/heat"
+rm -rf "$hd"
+mkdir -p "$hd"
+cp "$src/tests/cli/inputs/heat"/* "$hd/"
+# The 12 heat steps of 5 s, the first in two backward-Euler halves: 13 heat steps.
+expect "heat: the heated block runs" 0 "heat   13  t = 60 .*iterations" -- run "$hd/case.yaml"
+h="$hd/case.out/history.csv"
+s="$hd/case.out/summary.json"
+ex_check "heat: history.csv has heat_flow.<region> and reaction.x0.heat (W into the body)" "$h" \
+  'all(k in h[0] for k in ("heat_flow.x0", "heat_flow.x1", "heat_flow.top", "heat_flow.y0", "reaction.x0.heat", "reaction.bottom.z", "middle.temperature"))'
+ex_check "heat: the x0 reaction is its temperature condition's flow; y0 brings its 2e4 W/m2 over 0.1 x 0.02 m" "$h" \
+  'all(r["reaction.x0.heat"] == r["heat_flow.x0"] and close(r["heat_flow.y0"], 40.0, 1e-12) for r in h)'
+ex_check "heat: convection and radiation take heat out, the heated end puts it in at the end" "$h" \
+  'at(60)["heat_flow.x1"] < 0 and at(60)["heat_flow.top"] < 0 and at(60)["heat_flow.x0"] > 0'
+ex_check "heat: summary.json has heat_flows, reactions.x0.heat and the heat solver's counts" "$s" \
+  's["heat_flows"]["y0"] == s["reactions"]["x0"]["heat"] - s["reactions"]["x0"]["heat"] + 40.0 and s["heat"]["steps"] == 13 and s["wall_seconds"]["heat"] > 0'
+ex_check "heat: the probe warms (middle of the block, above 20 degrees at t = 60)" "$h" \
+  'at(60)["middle.temperature"] > 25 and all(h[i]["middle.temperature"] < h[i + 1]["middle.temperature"] for i in range(len(h) - 1))'
+if grep -q '"heat_flux"' "$hd/case.out/step_0004.vtu"; then ok "heat: the VTU has a heat_flux field"
+else bad "heat: no heat_flux field in step_0004.vtu"; fi
+
+# --- The same case on the PETSc back end and on MPI ranks: the temperatures, heat fluxes and
+# stresses agree with the serial direct run (the heat matrix goes through the same back ends).
+parallel_suite "heat" "$hd" "displacement,stress,temperature,heat_flux"
+
+# --- A heat analysis that does not converge stops with status 2 and keeps what converged:
+# radiation from surroundings at 1500 degrees switched on at t = 30, two Newton iterations
+# allowed (a step without radiation needs two: the solve, and the check of its correction).
+sed -E -e 's/^  steps: 12$/  steps: 12\n  max_iterations: 2/' \
+  -e 's/emissivity: 0.8, ambient: 20/emissivity: "t > 30 ? 0.8 : 0", ambient: 1500/' \
+  -e 's/^  source: .*$/  source: 0/' -e 's/\{temperature: \[20, 600\], value: \[50, 30\]\}/50/' \
+  -e 's/\{temperature: \[20, 600\], value: \[450, 700\]\}/450/' -e 's/^  theta: 0.5$/  theta: 1/' \
+  "$hd/case.yaml" >"$hd/stops.yaml"
+expect "heat: a heat step that does not converge stops the run with status 2" 2 \
+  "heat: the step to t = 35 did not converge after 4 cut-backs" -- run "$hd/stops.yaml" --quiet
+ex_check "heat: the run that stopped kept its converged steps (t = 15, 30)" "$hd/stops.out/history.csv" \
+  'len(h) == 2 and at(30)["time"] == 30'
+
+# --- Bad input: a clear error at the key, nothing written.
+hb() {  # hb NAME PATTERN SED_SCRIPT: the case edited by the sed script must be refused
+  sed -E "$3" "$hd/case.yaml" >"$hd/bad.yaml"
+  ex_bad "heat, bad input: $1" "$2" "$hd/bad.yaml"
+}
+hb "a material without conductivity" "materials\[0\]\.conductivity.*needs 'conductivity'" \
+  '/^    conductivity:/d'
+hb "a transient without density" "materials\[0\]\.density.*needs 'density'" '/^    density:/d'
+hb "a negative film coefficient" "heat\.boundary\[1\]\.convection\.h.*must be >= 0" 's/h: 200/h: -5/'
+hb "a film coefficient that turns negative at run time" \
+  "heat\.boundary\[1\]\.convection\.h.*gives the film coefficient h = -.*h must be >= 0" \
+  's/h: 200/h: "200 - 10*t"/'
+hb "an emissivity above 1" "heat\.boundary\[2\]\.radiation\.emissivity.*in 0 \.\. 1" \
+  's/emissivity: 0.8/emissivity: 1.5/'
+hb "radiation without the absolute zero" "heat\.boundary\[2\]\.radiation\.emissivity.*absolute_zero" \
+  '/^  absolute_zero:/d'
+hb "a convection on a region with no faces (a volume)" "heat\.boundary\[1\]\.region.*physical surface" \
+  's/region: x1, convection/region: body, convection/; s/heat_flows: .*/heat_flows: [x0]/'
+hb "a region that does not exist" "heat\.boundary\[3\]\.region.*'y9'.*y0" 's/region: y0, flux/region: y9, flux/; s/heat_flows: .*/heat_flows: [x0]/'
+hb "from: heat without a heat section" "temperature\.from.*needs a 'heat' section" \
+  '/^heat:/,/^boundary:/{/^boundary:/!d}'
+hb "a heat section with a temperature field" "temperature\.field.*from: heat" \
+  's/^temperature: .*/temperature: {reference: 20, field: 100}/'
+hb "theta below 1/2" "heat\.theta.*0\.5 \.\. 1" 's/^  theta: 0.5$/  theta: 0.2/'
+hb "a steady analysis with fluxes only" "heat\.boundary.*steady heat analysis needs a temperature" \
+  's/^  analysis: transient$/  analysis: steady/; s/^  theta: 0.5$//; /region: x[01],|region: top,/d'
+hb "heat steps ending before the mechanical ones" "heat\.times.*before the mechanical steps" \
+  's/^  steps: 12$/  times: [10, 20]/'
+hb "an unknown heat key, with a suggestion" "heat.*'sourse'.*source" 's/^  source:/  sourse:/'
+hb "heat_flows of a region without a heat condition" "output\.heat_flows.*'bottom' has no heat condition" \
+  's/heat_flows: \[x0, x1, top, y0\]/heat_flows: [x0, bottom]/'
