@@ -207,6 +207,22 @@ FaceFlux face_flux(const HeatBoundarySpec& bc, const Expression& value, const Ex
   return f;
 }
 
+/// Calls f(N, nf, da, p) at each quadrature point of heat face hf: its shape functions, node
+/// count, area element and position.
+template <class F>
+void for_face_points(const Mesh& mesh, const HeatFace& hf, F&& f) {
+  const auto fnodes = mesh.faces.nodes(hf.face);
+  const int nf = static_cast<int>(fnodes.size());
+  const CellType ft = mesh.faces.type[hf.face];
+  const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
+  Vec3 xf[max_cell_nodes];
+  for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
+  const std::span<const Vec3> xfs(xf, nf);
+  for (int q = 0; q < ftab.n_points; ++q)
+    f(&ftab.N[static_cast<std::size_t>(q) * nf], nf,
+      face_normal(ftab, q, xfs).norm() * ftab.weights[q], point_position(ftab, q, xfs));
+}
+
 }  // namespace
 
 void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from, double t1,
@@ -313,20 +329,11 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
       for (int i = model_.heat_face_start(e); i < model_.heat_face_start(e + 1); ++i) {
         const HeatFace& hf = faces[i];
         const HeatBoundarySpec& bc = spec_.boundary[hf.boundary];
-        const auto fnodes = mesh.faces.nodes(hf.face);
-        const int nf = static_cast<int>(fnodes.size());
-        const CellType ft = mesh.faces.type[hf.face];
-        const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
-        Vec3 xf[max_cell_nodes];
-        for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
-        const std::span<const Vec3> xfs(xf, nf);
-        for (int q = 0; q < ftab.n_points; ++q) {
-          const double da = face_normal(ftab, q, xfs).norm() * ftab.weights[q];
-          const double* N = &ftab.N[static_cast<std::size_t>(q) * nf];
+        for_face_points(mesh, hf, [&](const double* N, int nf, double da, const Vec3& p) {
           double Tq = 0;
           for (int a = 0; a < nf; ++a) Tq += N[a] * Te[hf.local[a]];
-          const FaceFlux f = face_flux(bc, ex.value[hf.boundary], ex.ambient[hf.boundary], spec_,
-                                       point_position(ftab, q, xfs), t1, Tq);
+          const FaceFlux f =
+              face_flux(bc, ex.value[hf.boundary], ex.ambient[hf.boundary], spec_, p, t1, Tq);
           for (int a = 0; a < nf; ++a) {
             const int la = hf.local[a];
             r[la] -= f.q * N[a] * da;
@@ -335,7 +342,7 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
               for (int bb = 0; bb < nf; ++bb)
                 ke[la * n + hf.local[bb]] -= theta * f.dq_dT * N[a] * N[bb] * da;
           }
-        }
+        });
       }
       for (int a = 0; a < n; ++a) {
         const int node = nodes[a];
@@ -382,25 +389,16 @@ void HeatSolver::natural_flows(const std::vector<double>& T, double t,
   const Mesh& mesh = model_.mesh();
   const PointExpressions& ex = expressions_[0];
   q.assign(spec_.boundary.size(), 0.0);
-  Vec3 xf[max_cell_nodes];
   for (const HeatFace& hf : model_.heat_faces()) {
     const auto fnodes = mesh.faces.nodes(hf.face);
-    const int nf = static_cast<int>(fnodes.size());
-    const CellType ft = mesh.faces.type[hf.face];
-    const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
-    for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
-    const std::span<const Vec3> xfs(xf, nf);
-    for (int k = 0; k < ftab.n_points; ++k) {
-      const double* N = &ftab.N[static_cast<std::size_t>(k) * nf];
+    for_face_points(mesh, hf, [&](const double* N, int nf, double da, const Vec3& p) {
       double Tq = 0;
       for (int a = 0; a < nf; ++a) Tq += N[a] * T[fnodes[a]];
-      const double da = face_normal(ftab, k, xfs).norm() * ftab.weights[k];
       q[hf.boundary] += face_flux(spec_.boundary[hf.boundary], ex.value[hf.boundary],
-                                  ex.ambient[hf.boundary], spec_, point_position(ftab, k, xfs),
-                                  t, Tq)
+                                  ex.ambient[hf.boundary], spec_, p, t, Tq)
                             .q *
                         da;
-    }
+    });
   }
 }
 
@@ -547,26 +545,16 @@ void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot
     const auto& faces = model_.heat_faces();
     for (int i = model_.heat_face_start(e); i < model_.heat_face_start(e + 1); ++i) {
       const HeatFace& hf = faces[i];
-      const auto fnodes = mesh.faces.nodes(hf.face);
-      const int nf = static_cast<int>(fnodes.size());
-      const CellType ft = mesh.faces.type[hf.face];
-      const ReferenceTable& ftab = reference_table(ft, heat_degree(ft));
-      Vec3 xf[max_cell_nodes];
-      for (int a = 0; a < nf; ++a) xf[a] = mesh.x[fnodes[a]];
-      const std::span<const Vec3> xfs(xf, nf);
-      for (int q = 0; q < ftab.n_points; ++q) {
-        const double da = face_normal(ftab, q, xfs).norm() * ftab.weights[q];
-        const double* N = &ftab.N[static_cast<std::size_t>(q) * nf];
+      for_face_points(mesh, hf, [&](const double* N, int nf, double da, const Vec3& p) {
         double Tq = 0, vq = 0;
         for (int a = 0; a < nf; ++a) {
           Tq += N[a] * Te[hf.local[a]];
           vq += N[a] * ve[hf.local[a]];
         }
-        const FaceFlux f =
-            face_flux(spec_.boundary[hf.boundary], ex.value[hf.boundary], ex.ambient[hf.boundary],
-                      spec_, point_position(ftab, q, xfs), t1, Tq);
+        const FaceFlux f = face_flux(spec_.boundary[hf.boundary], ex.value[hf.boundary],
+                                     ex.ambient[hf.boundary], spec_, p, t1, Tq);
         for (int a = 0; a < nf; ++a) o[hf.local[a]] -= theta * f.dq_dT * N[a] * vq * da;
-      }
+      });
     }
     for (int a = 0; a < n; ++a) out[nodes[a]] += o[a];
   };
