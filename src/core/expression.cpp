@@ -125,8 +125,8 @@ Expression Expression::parse(const std::string& raw, const SourceLocation& where
   const char* variable_names = e.with_T_ ? "x, y, z, t, T" : "x, y, z, t";
   const std::string text = trim(raw);
   if (text.empty())
-    throw InputError(where, std::string("expected a number or an expression in ") +
-                                variable_names + ", found an empty string");
+    throw InputError(where, std::string("expected a number or an expression in ") + variable_names +
+                                ", found an empty string");
 
   double v = 0;
   if (as_number(text, v)) {

@@ -32,10 +32,9 @@ const std::vector<std::string> heat_keys = {
     "steps",     "times",          "tolerance",     "max_iterations",  "absolute_zero",
     "stefan_boltzmann"};
 // clang-format on
-const std::vector<std::string> heat_boundary_keys = {"region", "temperature", "flux",
-                                                     "convection", "radiation"};
-const std::vector<std::string> heat_conditions = {"temperature", "flux", "convection",
-                                                  "radiation"};
+const std::vector<std::string> heat_boundary_keys = {"region", "temperature", "flux", "convection",
+                                                     "radiation"};
+const std::vector<std::string> heat_conditions = {"temperature", "flux", "convection", "radiation"};
 const std::vector<std::string> convection_keys = {"h", "ambient"};
 const std::vector<std::string> radiation_keys = {"emissivity", "ambient"};
 const std::vector<std::string> analyses = {"steady", "transient"};
@@ -53,9 +52,9 @@ Expression expression_xyzt(const Reader& r, const Val& v) {
 }
 
 /// A constant value below `lo` (or above `hi`) is refused now; an expression is checked where
-/// it is evaluated (heat/thermal.cpp).
-void check_constant_range(const Reader& r, const Val& v, const Expression& e, double lo,
-                          double hi, const std::string& what) {
+/// it is evaluated (solve/heat.cpp).
+void check_constant_range(const Reader& r, const Val& v, const Expression& e, double lo, double hi,
+                          const std::string& what) {
   if (!e.is_constant()) return;
   const double x = e(0, 0, 0, 0);
   if (x < lo || x > hi)
@@ -131,17 +130,18 @@ HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical) {
   if (auto x = m.get("theta")) {
     h.theta = r.number(*x);
     if (!(h.theta >= 0.5 && h.theta <= 1.0))
-      r.fail(*x, "theta must be in 0.5 .. 1 (1 backward Euler, 0.5 Crank-Nicolson; below 0.5 "
-                 "the method is not unconditionally stable), found " +
-                     num(h.theta));
+      r.fail(*x,
+             "theta must be in 0.5 .. 1 (1 backward Euler, 0.5 Crank-Nicolson; below 0.5 "
+             "the method is not unconditionally stable), found " +
+                 num(h.theta));
     if (!h.transient && m.has("theta"))
-      r.fail(*x, "theta is the time integration of a transient analysis; this heat analysis is "
-                 "steady (add analysis: transient)");
+      r.fail(*x,
+             "theta is the time integration of a transient analysis; this heat analysis is "
+             "steady (add analysis: transient)");
   }
   if (auto x = m.get("source")) {
     if (!x->node.IsScalar())
-      r.fail(*x, "expected a number or an expression in x, y, z, t, T, found " +
-                     describe(x->node));
+      r.fail(*x, "expected a number or an expression in x, y, z, t, T, found " + describe(x->node));
     h.source =
         Expression::parse(x->node.Scalar(), r.at(*x), Expression::Variables::with_temperature);
   }
@@ -184,9 +184,10 @@ HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical) {
   if (auto x = m.get("absolute_zero")) {
     h.absolute_zero = r.number(*x);
     if (*h.absolute_zero > 0)
-      r.fail(*x, "the absolute zero in the case's temperature unit is <= 0 (-273.15 for "
-                 "degrees Celsius, 0 for kelvin), found " +
-                     num(*h.absolute_zero));
+      r.fail(*x,
+             "the absolute zero in the case's temperature unit is <= 0 (-273.15 for "
+             "degrees Celsius, 0 for kelvin), found " +
+                 num(*h.absolute_zero));
   }
   if (auto x = m.get("stefan_boltzmann")) h.stefan_boltzmann = r.positive(*x);
   for (const auto& b : h.boundary)
@@ -218,11 +219,11 @@ void check_heat(const Reader& r, const Case& c) {
   if (!c.heat.transient && std::none_of(bcs.begin(), bcs.end(), [](const HeatBoundarySpec& b) {
         return b.kind != HeatBoundarySpec::Kind::flux;
       }))
-    throw InputError(SourceLocation{c.heat.where.file, c.heat.where.line, c.heat.where.column,
-                                    "heat.boundary"},
-                     "a steady heat analysis needs a temperature, convection or radiation "
-                     "condition: with heat fluxes alone the temperature is known only up to a "
-                     "constant (and exists only when the fluxes and the source balance)");
+    throw InputError(
+        SourceLocation{c.heat.where.file, c.heat.where.line, c.heat.where.column, "heat.boundary"},
+        "a steady heat analysis needs a temperature, convection or radiation "
+        "condition: with heat fluxes alone the temperature is known only up to a "
+        "constant (and exists only when the fluxes and the source balance)");
   for (const MaterialSpec& m : c.materials) {
     if (m.conductivity.value.empty())
       throw InputError(m.conductivity.where,
@@ -232,10 +233,11 @@ void check_heat(const Reader& r, const Case& c) {
     if (!c.heat.transient) continue;
     for (const PropertyTable* p : {&m.density, &m.specific_heat})
       if (p->value.empty())
-        throw InputError(p->where, "material '" + m.name + "' needs '" +
-                                       (p == &m.density ? std::string("density' (kg/m^3)")
-                                                        : std::string("specific_heat' (J/(kg K))")) +
-                                       ": the heat analysis is transient");
+        throw InputError(p->where,
+                         "material '" + m.name + "' needs '" +
+                             (p == &m.density ? std::string("density' (kg/m^3)")
+                                              : std::string("specific_heat' (J/(kg K))")) +
+                             ": the heat analysis is transient");
   }
 }
 

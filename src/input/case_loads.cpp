@@ -33,7 +33,8 @@ std::span<const KeySection> load_sections() {
 // Temperature
 
 TemperatureSpec read_temperature(const Reader& r, const Val& v) {
-  Map m(r, v, temperature_keys, "a map {reference: ..., field: ...} or {reference: ..., from: heat}");
+  Map m(r, v, temperature_keys,
+        "a map {reference: ..., field: ...} or {reference: ..., from: heat}");
   TemperatureSpec t;
   t.given = true;
   t.where = r.at(v);

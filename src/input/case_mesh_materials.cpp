@@ -15,9 +15,9 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::vector<std::string> mesh_keys = {"file", "order", "scale"};
-const std::vector<std::string> material_keys = {
-    "name",       "regions",      "E",       "nu", "alpha", "plasticity",
-    "conductivity", "density", "specific_heat"};
+const std::vector<std::string> material_keys = {"name",         "regions", "E",
+                                                "nu",           "alpha",   "plasticity",
+                                                "conductivity", "density", "specific_heat"};
 const std::vector<std::string> table_keys = {"temperature", "value"};
 
 const KeySection sections[] = {
@@ -172,12 +172,14 @@ void read_material_law(const Reader& r, const Map& m, bool has_temperature, Mate
     mat.alpha.where = mat.where;
   }
   // Heat conduction: whether the case needs them is checked with its heat section.
-  for (auto [key, property] : {std::pair{"conductivity", &mat.conductivity},
-                               std::pair{"density", &mat.density},
-                               std::pair{"specific_heat", &mat.specific_heat}}) {
-    if (auto x = m.get(key)) *property = read_property(r, *x, key, Property::positive);
-    else property->where = SourceLocation{r.label(), mat.where.line, mat.where.column,
-                                          child_path(mat.where.key, key)};
+  for (auto [key, property] :
+       {std::pair{"conductivity", &mat.conductivity}, std::pair{"density", &mat.density},
+        std::pair{"specific_heat", &mat.specific_heat}}) {
+    if (auto x = m.get(key))
+      *property = read_property(r, *x, key, Property::positive);
+    else
+      property->where = SourceLocation{r.label(), mat.where.line, mat.where.column,
+                                       child_path(mat.where.key, key)};
   }
   if (auto pl = m.get("plasticity")) {
     mat.plasticity = read_plasticity(r, *pl, mat);

@@ -22,10 +22,9 @@ namespace fs = std::filesystem;
 namespace case_input {
 namespace {
 
-const std::vector<std::string> top_keys = {"title",       "mesh",     "materials",
-                                           "temperature", "heat",     "boundary",
-                                           "body_force",  "contact",  "solver",
-                                           "output"};
+const std::vector<std::string> top_keys = {"title",  "mesh",     "materials",  "temperature",
+                                           "heat",   "boundary", "body_force", "contact",
+                                           "solver", "output"};
 
 /// Every section's keys, in the order the "is a key of ..." hint lists them.
 const std::vector<KeySection>& key_sections() {
@@ -157,9 +156,9 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
   check_strain_form(c);
   if (auto x = top.get("heat")) c.heat = read_heat(r, *x, c.solver.times);
   check_heat(r, c);
-  c.output = read_output(r, top.get("output"),
-                         c.file.parent_path() / (c.file.stem().string() + ".out"), c.boundary,
-                         c.heat);
+  c.output =
+      read_output(r, top.get("output"), c.file.parent_path() / (c.file.stem().string() + ".out"),
+                  c.boundary, c.heat);
 }
 
 }  // namespace

@@ -130,7 +130,7 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   check_petsc(MatSetBlockSize(s.A, k), "MatSetBlockSize");
   check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
   check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
-        "matrix preallocation");
+              "matrix preallocation");
   check_petsc(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   check_petsc(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   check_petsc(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
@@ -141,19 +141,19 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   // Near null space of the displacement: the six rigid-body modes of the owned nodes'
   // coordinates (a scalar field's, the constants, is GAMG's default).
   if (k == 3) {
-  Vec coords = nullptr;
-  check_petsc(VecDuplicate(s.x, &coords), "VecDuplicate");
-  check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
-  PetscScalar* c = nullptr;
-  check_petsc(VecGetArray(coords, &c), "VecGetArray");
-  for (std::size_t l = 0; l < s.owned.size(); ++l)
-    for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh.x[s.owned[l]][d];
-  check_petsc(VecRestoreArray(coords, &c), "VecRestoreArray");
-  MatNullSpace rigid = nullptr;
-  check_petsc(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
-  check_petsc(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
-  MatNullSpaceDestroy(&rigid);
-  VecDestroy(&coords);
+    Vec coords = nullptr;
+    check_petsc(VecDuplicate(s.x, &coords), "VecDuplicate");
+    check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
+    PetscScalar* c = nullptr;
+    check_petsc(VecGetArray(coords, &c), "VecGetArray");
+    for (std::size_t l = 0; l < s.owned.size(); ++l)
+      for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh.x[s.owned[l]][d];
+    check_petsc(VecRestoreArray(coords, &c), "VecRestoreArray");
+    MatNullSpace rigid = nullptr;
+    check_petsc(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
+    check_petsc(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
+    MatNullSpaceDestroy(&rigid);
+    VecDestroy(&coords);
   }
 
   check_petsc(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");

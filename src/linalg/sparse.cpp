@@ -6,8 +6,7 @@
 
 namespace hencky {
 
-DofMap DofMap::from_constraints(int n_nodes, const std::vector<bool>& prescribed,
-                                int per_node) {
+DofMap DofMap::from_constraints(int n_nodes, const std::vector<bool>& prescribed, int per_node) {
   DofMap m;
   m.per_node = per_node;
   m.eq.assign(static_cast<std::size_t>(per_node) * n_nodes, -1);

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "core/log.hpp"
-#include "solve/heat.hpp"
 #include "linalg/linear_system.hpp"
+#include "solve/heat.hpp"
 #include "solve/model.hpp"
 #include "solve/state.hpp"
 

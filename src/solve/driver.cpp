@@ -56,8 +56,8 @@ namespace {
 /// temperature's); `model` is given for the displacement only: it then logs the choice and
 /// holds the points of this rank's cells.
 std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
-                                          const Assembler& assembler, const DofMap& dofs,
-                                          Log& log, const std::string& petsc_options) {
+                                          const Assembler& assembler, const DofMap& dofs, Log& log,
+                                          const std::string& petsc_options) {
   const SolverSpec& s = spec_model.spec().solver;
   const int ranks = par::size();
   if (s.linear != SolverSpec::Linear::petsc && ranks == 1)
@@ -78,11 +78,10 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
              par::max(part.owned_nodes));
   if (ranks > 1 && model) model->hold_points(part.owned_cell);
   try {
-    return std::make_unique<PetscSolver>(spec_model.mesh(), dofs, assembler,
-                                         std::move(part), preset,
-                                         s.petsc_options.empty() || petsc_options.empty()
-                                             ? s.petsc_options + petsc_options
-                                             : s.petsc_options + " " + petsc_options);
+    return std::make_unique<PetscSolver>(
+        spec_model.mesh(), dofs, assembler, std::move(part), preset,
+        s.petsc_options.empty() || petsc_options.empty() ? s.petsc_options + petsc_options
+                                                         : s.petsc_options + " " + petsc_options);
   } catch (const std::invalid_argument& e) {
     throw InputError(SourceLocation{spec_model.spec().file.string(), 0, 0, "solver.petsc_options"},
                      std::string(e.what()) + " (from solver.petsc_options and --petsc)");

@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "core/log.hpp"
-#include "solve/heat.hpp"
 #include "linalg/linear_system.hpp"
 #include "solve/anderson.hpp"
 #include "solve/contact_step.hpp"
+#include "solve/heat.hpp"
 #include "solve/point_pass.hpp"
 #include "solve/state.hpp"
 

@@ -125,8 +125,8 @@ void HeatSolver::start() {
   s0.T.resize(model.mesh().n_nodes());
   for (int n = 0; n < model.mesh().n_nodes(); ++n) {
     const Vec3& x = model.mesh().x[n];
-    s0.T[n] = spec_.initial ? spec_.initial->eval_checked(x.x(), x.y(), x.z(), 0, "initial")
-                            : T_ref;
+    s0.T[n] =
+        spec_.initial ? spec_.initial->eval_checked(x.x(), x.y(), x.z(), 0, "initial") : T_ref;
   }
   s0.flow.assign(spec_.boundary.size(), 0.0);
   s0.energy.assign(spec_.boundary.size(), 0.0);
@@ -285,10 +285,9 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
           sr[a] += k * ga.cwiseAbs().dot(g_abs) * dv;
           if (matrix)
             for (int bb = 0; bb < n; ++bb)
-              ke[a * n + bb] += theta * k *
-                                (ga[0] * dNdx[3 * bb] + ga[1] * dNdx[3 * bb + 1] +
-                                 ga[2] * dNdx[3 * bb + 2]) *
-                                dv;
+              ke[a * n + bb] +=
+                  theta * k *
+                  (ga[0] * dNdx[3 * bb] + ga[1] * dNdx[3 * bb + 1] + ga[2] * dNdx[3 * bb + 2]) * dv;
         }
         if (source) {
           const Vec3 p = point_position(tab, q, xs);
@@ -359,7 +358,8 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
   if (matrix)
     system_->assemble_cells(kernel);
   else
-    model_.heat_assembler().matrices(kernel, [](int, const double*) {}, system_->own_cells());
+    model_.heat_assembler().matrices(
+        kernel, [](int, const double*) {}, system_->own_cells());
   // Every rank stops on an error one of them found: the one that found it says what.
   if (par::any(error != nullptr)) {
     if (error) std::rethrow_exception(error);
@@ -428,7 +428,9 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
     // starts with a residual that is small against the magnitudes of its terms, and taking it
     // as converged would freeze the temperatures (a slow approach to a steady state). A
     // nonlinear step also needs its last correction small against the temperatures' range.
-    const bool stepped = it > 0 && (linear_ && !nonsymmetric_ ? true : last_correction <= 10 * spec_.tolerance * t_scale);
+    const bool stepped =
+        it > 0 &&
+        (linear_ && !nonsymmetric_ ? true : last_correction <= 10 * spec_.tolerance * t_scale);
     if ((r <= spec_.tolerance && stepped) || n_free == 0) {
       iterations_ += it;
       last_iterations_ = it;
@@ -451,8 +453,7 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
     }
     if (it == 0) r_first = r;
     if (it >= spec_.max_iterations || (it > 2 && r > 1e6 * r_first)) {
-      why = fmt::format("no convergence in {} Newton iterations (relative residual {:.2e})", it,
-                        r);
+      why = fmt::format("no convergence in {} Newton iterations (relative residual {:.2e})", it, r);
       return false;
     }
     try {
@@ -487,9 +488,8 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
   }
 }
 
-void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot& from,
-                                double t1, const std::vector<double>& v,
-                                std::vector<double>& out) {
+void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+                                const std::vector<double>& v, std::vector<double>& out) {
   const Mesh& mesh = model_.mesh();
   out.assign(mesh.n_nodes(), 0.0);
   const bool transient = spec_.transient;
@@ -558,7 +558,8 @@ void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot
     }
     for (int a = 0; a < n; ++a) out[nodes[a]] += o[a];
   };
-  model_.heat_assembler().matrices(kernel, [](int, const double*) {}, system_->own_cells());
+  model_.heat_assembler().matrices(
+      kernel, [](int, const double*) {}, system_->own_cells());
   if (system_->own_cells()) par::sum_in_place(std::span<double>(out));
 }
 
@@ -677,9 +678,10 @@ void HeatSolver::advance(double target) {
     }
     const double t0 = snapshots_.back().time, mid = 0.5 * (t0 + t1);
     if (depth >= model_.spec().solver.cutback || !(mid > t0 && mid < t1))
-      throw HeatDivergence(fmt::format("heat: the step to t = {:g} did not converge after {} "
-                                       "cut-backs (the last to t = {:g}): {}",
-                                       t_end, depth, t1, why));
+      throw HeatDivergence(
+          fmt::format("heat: the step to t = {:g} did not converge after {} "
+                      "cut-backs (the last to t = {:g}): {}",
+                      t_end, depth, t1, why));
     log_.info("heat: step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
     targets.back().second = depth + 1;
     targets.push_back({mid, depth + 1});
@@ -726,7 +728,8 @@ void HeatSolver::at(double t, std::vector<double>& T, std::vector<double>& flow)
   if (!spec_.transient || !(t > committed_ + eps)) return;
   std::vector<double> flow0, energy0;
   interpolate(committed_, nullptr, flow0, energy0);
-  for (std::size_t k = 0; k < flow.size(); ++k) flow[k] = (energy[k] - energy0[k]) / (t - committed_);
+  for (std::size_t k = 0; k < flow.size(); ++k)
+    flow[k] = (energy[k] - energy0[k]) / (t - committed_);
 }
 
 void HeatSolver::committed(double t) {

@@ -56,7 +56,7 @@ class HeatCapacity {
 /// The heat solution at one time.
 struct HeatSnapshot {
   double time = 0;
-  std::vector<double> T;     ///< nodal temperatures
+  std::vector<double> T;  ///< nodal temperatures
   /// Per heat.boundary entry, the heat into the body in W over the step that ended here:
   /// θ q(t1) + (1 − θ) q(t0) (exactly what the step's heat balance holds), for a temperature
   /// condition the reaction of its nodes.
@@ -123,19 +123,19 @@ class HeatSolver {
   const HeatSpec& spec_;
   Log& log_;
   std::unique_ptr<LinearSystem> system_;
-  std::vector<HeatCapacity> capacity_;          ///< per material (transient)
-  std::vector<PointExpressions> expressions_;   ///< one copy per thread
-  std::deque<HeatSnapshot> snapshots_;          ///< times increasing, the last is the newest
-  std::vector<double> R_last_, S_last_;         ///< R and its scale at the newest snapshot
-  std::size_t next_target_ = 0;                 ///< own steps (heat.times): the next one
-  bool linear_ = false;     ///< the matrix depends on neither T nor t (only on Δt)
+  std::vector<HeatCapacity> capacity_;         ///< per material (transient)
+  std::vector<PointExpressions> expressions_;  ///< one copy per thread
+  std::deque<HeatSnapshot> snapshots_;         ///< times increasing, the last is the newest
+  std::vector<double> R_last_, S_last_;        ///< R and its scale at the newest snapshot
+  std::size_t next_target_ = 0;                ///< own steps (heat.times): the next one
+  bool linear_ = false;        ///< the matrix depends on neither T nor t (only on Δt)
   bool nonsymmetric_ = false;  ///< dG/dT has terms the factorized matrix leaves out
   double theta_ = 1.0;         ///< θ of the step being taken (1 in the start of θ < 1)
   double committed_ = 0;       ///< the mechanical analysis's last converged time
   int gmres_iterations_ = 0;
-  int last_iterations_ = 0;     ///< of the last converged solve, for its log line
+  int last_iterations_ = 0;  ///< of the last converged solve, for its log line
   double last_residual_ = 0;
-  double factored_dt_ = -1; ///< Δt(2 − θ) of the factorized matrix when linear_ (0: steady)
+  double factored_dt_ = -1;  ///< Δt(2 − θ) of the factorized matrix when linear_ (0: steady)
   int steps_ = 0, iterations_ = 0;
   double seconds_ = 0;
 };

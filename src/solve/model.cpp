@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <stdexcept>
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "contact/stl_surface.hpp"
@@ -206,7 +206,7 @@ void Model::bind_boundary() {
                                      "outer surface of the body",
                                      mesh_.faces.tag[f], r.name,
                                      owner == -1 ? "not a face of any volume element"
-                                                   : "inside the body (between two elements)",
+                                                 : "inside the body (between two elements)",
                                      to_string(bc.kind)));
       Vec3 cell_centre = Vec3::Zero(), face_centre = Vec3::Zero();
       const auto cn = mesh_.cells.nodes(owner);
@@ -234,8 +234,7 @@ void Model::bind_boundary() {
                      "every degree of freedom is prescribed: there is nothing to solve");
 }
 
-int Model::face_owner(int f, const std::vector<int>& nc_ptr,
-                      const std::vector<int>& nc_idx) const {
+int Model::face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx) const {
   const auto nodes = mesh_.faces.nodes(f);
   const int n_corners = cell_n_corners(mesh_.faces.type[f]);
   int owner = -1, n_owners = 0;
@@ -290,10 +289,10 @@ void Model::bind_heat() {
       for (std::size_t a = 0; a < fn.size(); ++a) {
         const auto it = std::find(cn.begin(), cn.end(), fn[a]);
         if (it == cn.end())  // a mid-edge node the cell lacks: meshes of mixed order
-          throw InputError(bc.where, fmt::format("face {} of region '{}' has a node that its "
-                                                 "volume element {} lacks (mixed orders?)",
-                                                 mesh_.faces.tag[f], r.name,
-                                                 mesh_.cells.tag[owner]));
+          throw InputError(bc.where,
+                           fmt::format("face {} of region '{}' has a node that its "
+                                       "volume element {} lacks (mixed orders?)",
+                                       mesh_.faces.tag[f], r.name, mesh_.cells.tag[owner]));
         hf.local[a] = static_cast<std::int8_t>(it - cn.begin());
       }
       by_cell[owner].push_back(hf);

@@ -41,9 +41,9 @@ struct FaceLoad {
 /// A face of a heat condition (flux, convection, radiation) in the volume cell that owns it:
 /// the heat solver integrates it with that cell, so that its matrix goes in with the cell's.
 struct HeatFace {
-  int face;      ///< index into Mesh::faces
-  int boundary;  ///< index into HeatSpec::boundary
-  int cell;      ///< the volume cell the face bounds
+  int face;                                         ///< index into Mesh::faces
+  int boundary;                                     ///< index into HeatSpec::boundary
+  int cell;                                         ///< the volume cell the face bounds
   std::array<std::int8_t, max_cell_nodes> local{};  ///< the cell's index of each face node
 };
 

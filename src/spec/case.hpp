@@ -127,14 +127,14 @@ struct HeatBoundarySpec {
   /// convection: the film coefficient h (W/(m²·K)); radiation: the emissivity (0 .. 1). An
   /// expression of x, y, z, t.
   Expression value;
-  Expression ambient;     ///< convection, radiation: the ambient temperature T∞
-  SourceLocation where;   ///< location of the region name (key heat.boundary[i].region)
+  Expression ambient;          ///< convection, radiation: the ambient temperature T∞
+  SourceLocation where;        ///< location of the region name (key heat.boundary[i].region)
   SourceLocation value_where;  ///< the value's key (e.g. heat.boundary[i].convection.h)
 };
 const char* to_string(HeatBoundarySpec::Kind kind);
 
 /// The `heat` section: heat conduction on the same mesh, k(T) ∇²T + Q = ρc(T) ∂T/∂t, solved
-/// step by step before the mechanical step that needs its temperatures (heat/thermal.hpp).
+/// step by step before the mechanical step that needs its temperatures (solve/heat.hpp).
 struct HeatSpec {
   bool given = false;
   bool transient = false;  ///< analysis: steady (false, the default) | transient

@@ -21,9 +21,8 @@ std::string bar_msh(int n, double L, double w, bool quadratic) {
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i <= n; ++i) b.x.emplace_back(L * i / n, w * j, w * k);
   for (int i = 0; i < n; ++i) {
-    const std::array<int, 8> c{id(i, 0, 0),     id(i + 1, 0, 0), id(i + 1, 1, 0),
-                               id(i, 1, 0),     id(i, 0, 1),     id(i + 1, 0, 1),
-                               id(i + 1, 1, 1), id(i, 1, 1)};
+    const std::array<int, 8> c{id(i, 0, 0), id(i + 1, 0, 0), id(i + 1, 1, 0), id(i, 1, 0),
+                               id(i, 0, 1), id(i + 1, 0, 1), id(i + 1, 1, 1), id(i, 1, 1)};
     b.hex(c, quadratic, 1);
     if (i == 0) b.quad(c[0], c[3], c[7], c[4], quadratic, 11);
     if (i == n - 1) b.quad(c[1], c[2], c[6], c[5], quadratic, 12);
@@ -68,7 +67,9 @@ double axis_error(const Model& model, const std::vector<double>& T,
 }
 
 /// The flow of heat.boundary entry b of the state, W into the body.
-double flow(const State& s, std::size_t b) { return s.heat_flow.at(b); }
+double flow(const State& s, std::size_t b) {
+  return s.heat_flow.at(b);
+}
 
 }  // namespace
 
@@ -100,10 +101,11 @@ TEST(VerifyHeat, SlabWithLinearConductivityMeetsTheKirchhoffSolution) {
       const double q0 = flow(r->state(), 0), q1 = flow(r->state(), 1);
       const double qerr = std::abs(q0 - U0 * A / L) / (U0 * A / L);
       const int its = r->run->heat_iterations, gm = r->run->heat_gmres_iterations;
-      report(fmt::format("heat slab k(T) {} n {:2d}: max nodal error {:.3e}, flow in {:.6g} out "
-                         "{:.6g} (exact {:.6g}), flow error {:.3e}; {} Newton iterations "
-                         "({} GMRES) for both solves (t = 0 and 1)",
-                         quadratic ? "hex20" : "hex8", n, err, q0, q1, U0 * A / L, qerr, its, gm));
+      report(
+          fmt::format("heat slab k(T) {} n {:2d}: max nodal error {:.3e}, flow in {:.6g} out "
+                      "{:.6g} (exact {:.6g}), flow error {:.3e}; {} Newton iterations "
+                      "({} GMRES) for both solves (t = 0 and 1)",
+                      quadratic ? "hex20" : "hex8", n, err, q0, q1, U0 * A / L, qerr, its, gm));
       EXPECT_LE(its, 12) << "Newton converges quadratically";
       EXPECT_NEAR(q0 + q1, 0.0, 1e-9 * std::abs(q0)) << "the heat in leaves";
       h.push_back(L / n);
@@ -144,21 +146,22 @@ TEST(VerifyHeat, RadiatingBarEndMeetsTheBalanceOfConductionAndRadiation) {
   const double T1 = 0.5 * (lo + hi);
   TempDir dir("heat-radiation");
   write_file(dir / "bar.msh", bar_msh(6, L, w, false));
-  auto r = run_case(dir.path(),
-                    bar_case(fmt::format("conductivity: {}", num(k)),
-                             fmt::format("  absolute_zero: {}\n  tolerance: 1.0e-12\n"
-                                         "  boundary:\n"
-                                         "    - {{region: x0, temperature: {}}}\n"
-                                         "    - {{region: x1, radiation: {{emissivity: {}, "
-                                         "ambient: {}}}}}\n",
-                                         num(Z), num(T0), num(eps), num(Tinf)),
-                             "{steps: 1}"));
+  auto r =
+      run_case(dir.path(), bar_case(fmt::format("conductivity: {}", num(k)),
+                                    fmt::format("  absolute_zero: {}\n  tolerance: 1.0e-12\n"
+                                                "  boundary:\n"
+                                                "    - {{region: x0, temperature: {}}}\n"
+                                                "    - {{region: x1, radiation: {{emissivity: {}, "
+                                                "ambient: {}}}}}\n",
+                                                num(Z), num(T0), num(eps), num(Tinf)),
+                                    "{steps: 1}"));
   const double err = axis_error(r->model(), r->state().nodal_temperature,
                                 [&](double x) { return T0 + (T1 - T0) * x / L; });
   const double q = k * (T0 - T1) / L * w * w;
-  report(fmt::format("heat radiation: T(L) exact {:.10g}, max nodal error {:.3e}; flows {:.8g} "
-                     "{:.8g} (exact ±{:.8g})",
-                     T1, err, flow(r->state(), 0), flow(r->state(), 1), q));
+  report(
+      fmt::format("heat radiation: T(L) exact {:.10g}, max nodal error {:.3e}; flows {:.8g} "
+                  "{:.8g} (exact ±{:.8g})",
+                  T1, err, flow(r->state(), 0), flow(r->state(), 1), q));
   EXPECT_LT(err, 1e-8 * T0);
   EXPECT_NEAR(flow(r->state(), 0), q, 1e-8 * q);
   EXPECT_NEAR(flow(r->state(), 1), -q, 1e-8 * q);
@@ -180,13 +183,13 @@ struct Transient {
 Transient erfc_run(int steps, double theta, const std::string& mesh_dir_tag) {
   TempDir dir(fmt::format("heat-erfc-{}-{}-{}", mesh_dir_tag, steps, theta));
   write_file(dir / "bar.msh", bar_msh(40, 1.0, 0.05, true));
-  auto run = run_stepped(
-      dir.path(), bar_case("conductivity: 1, density: 1, specific_heat: 1",
-                           fmt::format("  analysis: transient\n  theta: {}\n  initial: 0\n"
-                                       "  tolerance: 1.0e-12\n"
-                                       "  boundary:\n    - {{region: x0, temperature: 1}}\n",
-                                       num(theta)),
-                           fmt::format("{{steps: {}, end: 0.01}}", steps)));
+  auto run = run_stepped(dir.path(),
+                         bar_case("conductivity: 1, density: 1, specific_heat: 1",
+                                  fmt::format("  analysis: transient\n  theta: {}\n  initial: 0\n"
+                                              "  tolerance: 1.0e-12\n"
+                                              "  boundary:\n    - {{region: x0, temperature: 1}}\n",
+                                              num(theta)),
+                                  fmt::format("{{steps: {}, end: 0.01}}", steps)));
   EXPECT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
   Transient out;
   out.T = run->all.states.back().nodal_temperature;
@@ -214,9 +217,10 @@ TEST(VerifyHeat, SuddenSurfaceTemperatureConvergesInTimeAtTheOrderOfTheMethod) {
     }
     const double rate = observed_rate(h, e);
     const double exact_err = axis_error(model, ref.T, erfc_exact);
-    report(fmt::format("heat erfc theta {}: observed order in time {:.2f}; 640 steps vs erfc: max "
-                       "nodal error {:.3e}",
-                       theta, rate, exact_err));
+    report(
+        fmt::format("heat erfc theta {}: observed order in time {:.2f}; 640 steps vs erfc: max "
+                    "nodal error {:.3e}",
+                    theta, rate, exact_err));
     EXPECT_GT(rate, theta == 1.0 ? 0.9 : 1.9);
     EXPECT_LT(rate, theta == 1.0 ? 1.2 : 2.3);
     EXPECT_LT(exact_err, 2e-3);
@@ -226,7 +230,8 @@ TEST(VerifyHeat, SuddenSurfaceTemperatureConvergesInTimeAtTheOrderOfTheMethod) {
 // ------------------------------------------------------------------------------------------
 // A slab −L <= x <= L at T_i cooled on both faces by convection h into T_inf = 0 (the bar is its
 // half 0 <= x <= L, insulated at x = 0 by symmetry): with Bi = h L / k,
-//   T/T_i = Σ C_n exp(−ζ_n² Fo) cos(ζ_n x/L),  ζ_n tan ζ_n = Bi,  C_n = 4 sin ζ_n / (2ζ_n + sin 2ζ_n),
+//   T/T_i = Σ C_n exp(−ζ_n² Fo) cos(ζ_n x/L),  ζ_n tan ζ_n = Bi,  C_n = 4 sin ζ_n / (2ζ_n + sin
+//   2ζ_n),
 // Fo = κ t / L² (Incropera, §5.5).
 TEST(VerifyHeat, ConvectivelyCooledSlabMeetsTheSeriesSolution) {
   const double L = 0.1, k = 20, rho = 8000, c = 500, h = 400, Ti = 500;
@@ -251,12 +256,12 @@ TEST(VerifyHeat, ConvectivelyCooledSlabMeetsTheSeriesSolution) {
   write_file(dir / "bar.msh", bar_msh(16, L, 0.01, true));
   auto run = run_stepped(
       dir.path(),
-      bar_case(fmt::format("conductivity: {}, density: {}, specific_heat: {}", num(k), num(rho),
-                           num(c)),
-               fmt::format("  analysis: transient\n  theta: 0.5\n  initial: {}\n"
-                           "  boundary:\n    - {{region: x1, convection: {{h: {}, ambient: 0}}}}\n",
-                           num(Ti), num(h)),
-               fmt::format("{{steps: 100, end: {}}}", num(t_end))));
+      bar_case(
+          fmt::format("conductivity: {}, density: {}, specific_heat: {}", num(k), num(rho), num(c)),
+          fmt::format("  analysis: transient\n  theta: 0.5\n  initial: {}\n"
+                      "  boundary:\n    - {{region: x1, convection: {{h: {}, ambient: 0}}}}\n",
+                      num(Ti), num(h)),
+          fmt::format("{{steps: 100, end: {}}}", num(t_end))));
   ASSERT_EQ(run->result.status, AnalysisStatus::converged) << run->result.failure;
   double worst = 0;
   for (std::size_t s = 19; s < run->all.states.size(); s += 20) {
@@ -267,9 +272,10 @@ TEST(VerifyHeat, ConvectivelyCooledSlabMeetsTheSeriesSolution) {
     // mean over the step, which the trapezoidal rule gives to O(Δt²)).
     const double dt = t_end / 100, A = 0.01 * 0.01;
     const double q_exact = -h * A * (0.5 * exact(L, st.time) + 0.5 * exact(L, st.time - dt));
-    report(fmt::format("heat cooled slab Bi {:.1f}: Fo {:.2f} max nodal error {:.3e} K ({:.2e} of "
-                       "T_i); flow {:.6g} W (series {:.6g})",
-                       Bi, kappa * st.time / (L * L), e, e / Ti, flow(st, 0), q_exact));
+    report(
+        fmt::format("heat cooled slab Bi {:.1f}: Fo {:.2f} max nodal error {:.3e} K ({:.2e} of "
+                    "T_i); flow {:.6g} W (series {:.6g})",
+                    Bi, kappa * st.time / (L * L), e, e / Ti, flow(st, 0), q_exact));
     EXPECT_NEAR(flow(st, 0), q_exact, 5e-4 * std::abs(q_exact));
     worst = std::max(worst, e / Ti);
   }
@@ -340,10 +346,10 @@ TEST(VerifyHeat, TransientHeatBalanceHoldsToTheSolverTolerance) {
         stored += (H(Tq) - H(20)) * dv;
       }
     }
-    report(fmt::format("heat balance theta {} heat steps {}: brought in {:.10g} J, stored {:.10g} "
-                       "J, relative difference {:.2e}",
-                       theta, heat_steps ? heat_steps : 8, in, stored,
-                       std::abs(in - stored) / std::abs(stored)));
+    report(fmt::format(
+        "heat balance theta {} heat steps {}: brought in {:.10g} J, stored {:.10g} "
+        "J, relative difference {:.2e}",
+        theta, heat_steps ? heat_steps : 8, in, stored, std::abs(in - stored) / std::abs(stored)));
     EXPECT_NEAR(in, stored, 1e-8 * std::abs(stored));
   }
 }

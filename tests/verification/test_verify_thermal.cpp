@@ -149,8 +149,8 @@ struct ThermalCylinder {
 
 /// from_heat: the temperature from a steady heat analysis between T_a on the bore and 0 on the
 /// outer surface (whose exact solution is the same logarithm) instead of the expression.
-void thermal_cylinder(const std::string& label, const std::string& cells, int order, double min_rate,
-                      double min_stress_rate, bool from_heat = false) {
+void thermal_cylinder(const std::string& label, const std::string& cells, int order,
+                      double min_rate, double min_stress_rate, bool from_heat = false) {
   const ThermalCylinder C;
   // The closed form must satisfy its own boundary conditions σ_r(a) = σ_r(b) = 0.
   ASSERT_NEAR(C.stress(Vec3(C.a, 0, 0))[0], 0.0, 1e-6);
@@ -160,22 +160,24 @@ void thermal_cylinder(const std::string& label, const std::string& cells, int or
     TempDir dir(fmt::format("thermal-cylinder-{}-{}", label, nr));
     write_file(dir / "ring.geo", quarter_ring_geo(C.a, C.b, (C.b - C.a) / nr, nr, 2 * nr, cells));
     const std::string temperature =
-        from_heat ? fmt::format("    conductivity: 45\ntemperature: {{reference: 0, from: heat}}\n"
-                                "heat:\n  boundary:\n    - {{region: inner, temperature: {}}}\n"
-                                "    - {{region: outer, temperature: 0}}\n",
-                                num(C.Ta))
-                  : fmt::format("temperature:\n  reference: 0\n  field: "
-                                "\"{}*log({}/sqrt(x^2 + y^2))/log({}/{})\"\n",
-                                num(C.Ta), num(C.b), num(C.b), num(C.a));
-    auto r = run_case(
-        dir.path(),
-        fmt::format("title: thermal cylinder\nmesh:\n  file: ring.geo\n  order: {}\n{}{}"
-                    "boundary:\n"
-                    "  - region: xsym\n    displacement: {{x: 0}}\n"
-                    "  - region: ysym\n    displacement: {{y: 0}}\n"
-                    "  - region: bottom\n    displacement: {{z: 0}}\n"
-                    "  - region: top\n    displacement: {{z: 0}}\n",
-                    order, material_yaml(), temperature));
+        from_heat ? fmt::format(
+                        "    conductivity: 45\ntemperature: {{reference: 0, from: heat}}\n"
+                        "heat:\n  boundary:\n    - {{region: inner, temperature: {}}}\n"
+                        "    - {{region: outer, temperature: 0}}\n",
+                        num(C.Ta))
+                  : fmt::format(
+                        "temperature:\n  reference: 0\n  field: "
+                        "\"{}*log({}/sqrt(x^2 + y^2))/log({}/{})\"\n",
+                        num(C.Ta), num(C.b), num(C.b), num(C.a));
+    auto r =
+        run_case(dir.path(),
+                 fmt::format("title: thermal cylinder\nmesh:\n  file: ring.geo\n  order: {}\n{}{}"
+                             "boundary:\n"
+                             "  - region: xsym\n    displacement: {{x: 0}}\n"
+                             "  - region: ysym\n    displacement: {{y: 0}}\n"
+                             "  - region: bottom\n    displacement: {{z: 0}}\n"
+                             "  - region: top\n    displacement: {{z: 0}}\n",
+                             order, material_yaml(), temperature));
     const L2Norms n = l2_displacement_error(r->model(), r->state(), [&](const Vec3& x) { return C.u(x); });
     const double se = l2_stress_error(r->model(), r->state(), [&](const Vec3& x) { return C.stress(x); });
     report(fmt::format("thermal cylinder {:<5} nr {} cells {:4d}  L2(u) rel {:.3e}  L2(sigma) rel {:.3e}",
