@@ -24,8 +24,8 @@ png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "temperature-stress.png
 rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
 
 # The yield stress over temperature, as in case.yaml (Pa).
-YIELD_T = [0, 200, 400, 600, 800, 1000, 2500]
-YIELD = [250e6, 230e6, 190e6, 110e6, 45e6, 20e6, 20e6]
+YIELD_T = [0, 20, 200, 400, 600, 800, 1000, 2500]
+YIELD = [250e6, 250e6, 230e6, 190e6, 110e6, 45e6, 20e6, 20e6]
 
 
 def interp(x, xs, ys):
@@ -46,6 +46,7 @@ for name, label, style in (("weld", "on the weld line", "-"), ("y10", "10 mm fro
                            ("y30", "30 mm", "-."), ("edge", "100 mm (the edge)", ":")):
     ax_T.plot(t, [r[name + ".temperature"] for r in rows], style, label=label)
 ax_T.set_xscale("log")
+ax_T.set_xlim(8, 4000)
 ax_T.set_ylabel("temperature (°C)")
 ax_T.axvline(40, color="0.7", lw=0.8)
 ax_T.text(41, 1200, "torch off (t = 40 s)", color="0.4", fontsize=8)
@@ -60,7 +61,8 @@ ax_s.plot(t, [r["weld.von_mises"] * MPa for r in rows], "-", color="0.3", lw=1,
 ax_s.plot(t, [interp(r["weld.temperature"], YIELD_T, YIELD) * MPa for r in rows], "--",
           color="tab:red", label="yield stress at its temperature")
 ax_s.set_xscale("log")
-ax_s.set_ylim(-450, 400)
+ax_s.set_xlim(8, 4000)
+ax_s.set_ylim(-350, 350)
 ax_s.axhline(0, color="0.8", lw=0.8)
 ax_s.axvline(40, color="0.7", lw=0.8)
 ax_s.set_xlabel("time (s)")
@@ -68,8 +70,8 @@ ax_s.set_ylabel("stress on the weld line (MPa)")
 ax_s.legend(loc="lower right", fontsize=8)
 ax_s.grid(alpha=0.3, which="both")
 
-names = ["weld", "y5", "y10", "y15", "y20", "y30", "y40", "y60", "y80", "edge"]
-ys = [0, 5, 10, 15, 20, 30, 40, 60, 80, 100]
+names = ["weld", "y5", "y10", "y15", "y20", "y25", "y30", "y40", "y60", "y80", "edge"]
+ys = [0, 5, 10, 15, 20, 25, 30, 40, 60, 80, 100]
 end = rows[-1]
 ax_y.plot(ys, [end[n + ".stress.xx"] * MPa for n in names], "-o", label="σ_xx (along the weld)")
 ax_y.plot(ys, [end[n + ".stress.yy"] * MPa for n in names], "-s", label="σ_yy (across it)")
