@@ -46,11 +46,6 @@ const KeySection sections[] = {
     {"heat.boundary[i].radiation", &radiation_keys},
 };
 
-/// An expression that must not use T (every heat value but the source).
-Expression expression_xyzt(const Reader& r, const Val& v) {
-  return r.expression(v);
-}
-
 /// A constant value below `lo` (or above `hi`) is refused now; an expression is checked where
 /// it is evaluated (solve/heat.cpp).
 void check_constant_range(const Reader& r, const Val& v, const Expression& e, double lo, double hi,
@@ -88,7 +83,7 @@ HeatBoundarySpec read_heat_condition(const Reader& r, const Val& item) {
   if (given[0] == "temperature" || given[0] == "flux") {
     b.kind = given[0] == "temperature" ? HeatBoundarySpec::Kind::temperature
                                        : HeatBoundarySpec::Kind::flux;
-    b.value = expression_xyzt(r, c);
+    b.value = r.expression(c);
     return b;
   }
   const bool convection = given[0] == "convection";
@@ -99,13 +94,13 @@ HeatBoundarySpec read_heat_condition(const Reader& r, const Val& item) {
   const Val k = cm.require(r, coefficient,
                            convection ? "the film coefficient h in W/(m^2 K), e.g. h: 25"
                                       : "the surface emissivity (0 .. 1), e.g. emissivity: 0.8");
-  b.value = expression_xyzt(r, k);
+  b.value = r.expression(k);
   b.value_where = r.at(k);
   if (convection)
     check_constant_range(r, k, b.value, 0, INFINITY, "the film coefficient h");
   else
     check_constant_range(r, k, b.value, 0, 1, "the emissivity");
-  b.ambient = expression_xyzt(r, cm.require(r, "ambient", "the ambient temperature, e.g. 20"));
+  b.ambient = r.expression(cm.require(r, "ambient", "the ambient temperature, e.g. 20"));
   return b;
 }
 
@@ -122,7 +117,7 @@ HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical) {
   h.where = r.at(v);
   if (auto x = m.get("analysis")) h.transient = r.choice(*x, analyses, "analysis") == "transient";
   if (auto x = m.get("initial")) {
-    h.initial = expression_xyzt(r, *x);
+    h.initial = r.expression(*x);
     if (h.initial->depends_on_time())
       r.fail(*x, "the initial temperature is an expression of x, y, z only, found t in \"" +
                      h.initial->text() + "\"");
@@ -199,8 +194,7 @@ HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical) {
   return h;
 }
 
-void check_heat(const Reader& r, const Case& c) {
-  (void)r;
+void check_heat(const Case& c) {
   const TemperatureSpec& ts = c.temperature;
   if (ts.from_heat && !c.heat.given)
     throw InputError(ts.field_where,

@@ -155,7 +155,7 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
   c.solver = read_solver(r, top.get("solver"));
   check_strain_form(c);
   if (auto x = top.get("heat")) c.heat = read_heat(r, *x, c.solver.times);
-  check_heat(r, c);
+  check_heat(c);
   c.output =
       read_output(r, top.get("output"), c.file.parent_path() / (c.file.stem().string() + ".out"),
                   c.boundary, c.heat);

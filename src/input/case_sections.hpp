@@ -56,7 +56,7 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v);
 HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical);
 /// A heat section needs temperature: {reference: ..., from: heat} and every material's
 /// conductivity (and density, specific heat when transient); from: heat needs a heat section.
-void check_heat(const Reader& r, const Case& c);
+void check_heat(const Case& c);
 
 // ---------------------------------------------------------------------------------------------
 // Contact (case_contact.cpp)

@@ -97,15 +97,14 @@ HeatSolver::HeatSolver(const Model& model, const SystemFactory& make_system, Log
 
   // The matrix depends on Δt alone when every property is a constant, the film coefficients
   // are constants and nothing radiates or makes a source of the temperature.
-  linear_ = !spec_.source.depends_on_temperature();
-  for (const MaterialModel& m : model.materials()) {
-    linear_ = linear_ && m.spec->conductivity.is_constant();
-    if (spec_.transient)
-      linear_ = linear_ && m.spec->density.is_constant() && m.spec->specific_heat.is_constant();
-  }
+  // dG/dT has a part the factorized matrix leaves out where k or Q depends on T.
   nonsymmetric_ = spec_.source.depends_on_temperature();
   for (const MaterialModel& m : model.materials())
     nonsymmetric_ = nonsymmetric_ || !m.spec->conductivity.is_constant();
+  linear_ = !nonsymmetric_;
+  for (const MaterialModel& m : model.materials())
+    if (spec_.transient)
+      linear_ = linear_ && m.spec->density.is_constant() && m.spec->specific_heat.is_constant();
   for (const auto& b : spec_.boundary)
     if (b.kind == HeatBoundarySpec::Kind::radiation ||
         (b.kind == HeatBoundarySpec::Kind::convection && !b.value.is_constant()))
