@@ -222,6 +222,28 @@ void for_face_points(const Mesh& mesh, const HeatFace& hf, F&& f) {
       face_normal(ftab, q, xfs).norm() * ftab.weights[q], point_position(ftab, q, xfs));
 }
 
+/// A volume cell as both passes over the cells read it: its nodes, quadrature table,
+/// material, node positions and nodal temperatures.
+struct HeatCell {
+  std::span<const int> nodes;
+  int n;
+  const ReferenceTable& tab;
+  const MaterialSpec& mat;
+  Vec3 x[max_cell_nodes];
+  double T[max_cell_nodes];
+  HeatCell(const Model& model, int e, const std::vector<double>& T_nodal)
+      : nodes(model.mesh().cells.nodes(e)),
+        n(static_cast<int>(nodes.size())),
+        tab(reference_table(model.mesh().cells.type[e], heat_degree(model.mesh().cells.type[e]))),
+        mat(*model.material_of(e).spec) {
+    for (int a = 0; a < n; ++a) {
+      x[a] = model.mesh().x[nodes[a]];
+      T[a] = T_nodal[nodes[a]];
+    }
+  }
+  std::span<const Vec3> xs() const { return {x, static_cast<std::size_t>(n)}; }
+};
+
 }  // namespace
 
 void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from, double t1,
@@ -247,23 +269,19 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
   // the kernel adds its cell's vectors into the nodal sums itself.
   auto kernel = [&](int e, CellBuffers& b) {
     try {
-      const auto nodes = mesh.cells.nodes(e);
-      const int n = static_cast<int>(nodes.size());
-      const CellType type = mesh.cells.type[e];
-      const ReferenceTable& tab = reference_table(type, heat_degree(type));
-      const MaterialSpec& mat = *model_.material_of(e).spec;
+      const HeatCell cell(model_, e, T);
+      const auto nodes = cell.nodes;
+      const int n = cell.n;
+      const ReferenceTable& tab = cell.tab;
+      const MaterialSpec& mat = cell.mat;
+      const double* Te = cell.T;
       const HeatCapacity& cap = capacity_[model_.material_index(e)];
       const PointExpressions& ex = expressions_[omp_get_thread_num()];
-      Vec3 x[max_cell_nodes];
-      double Te[max_cell_nodes], T0e[max_cell_nodes], dNdx[3 * max_cell_nodes];
+      double T0e[max_cell_nodes], dNdx[3 * max_cell_nodes];
       double r[max_cell_nodes] = {}, sr[max_cell_nodes] = {}, c[max_cell_nodes] = {},
              sc[max_cell_nodes] = {};
-      for (int a = 0; a < n; ++a) {
-        x[a] = mesh.x[nodes[a]];
-        Te[a] = T[nodes[a]];
-        T0e[a] = from.T[nodes[a]];
-      }
-      const std::span<const Vec3> xs(x, n);
+      for (int a = 0; a < n; ++a) T0e[a] = from.T[nodes[a]];
+      const std::span<const Vec3> xs = cell.xs();
       double* ke = b.ke;
       for (int q = 0; q < tab.n_points; ++q) {
         const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
@@ -498,22 +516,18 @@ void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot
   // As evaluate(): colour by colour, each cell adds into the nodes' sums itself. The values
   // met here were all evaluated (and checked) by evaluate() at the same T.
   auto kernel = [&](int e, CellBuffers&) {
-    const auto nodes = mesh.cells.nodes(e);
-    const int n = static_cast<int>(nodes.size());
-    const CellType type = mesh.cells.type[e];
-    const ReferenceTable& tab = reference_table(type, heat_degree(type));
-    const MaterialSpec& mat = *model_.material_of(e).spec;
+    const HeatCell cell(model_, e, T);
+    const auto nodes = cell.nodes;
+    const int n = cell.n;
+    const ReferenceTable& tab = cell.tab;
+    const MaterialSpec& mat = cell.mat;
+    const double* Te = cell.T;
     const HeatCapacity& cap = capacity_[model_.material_index(e)];
     const PointExpressions& ex = expressions_[omp_get_thread_num()];
-    Vec3 x[max_cell_nodes];
-    double Te[max_cell_nodes], ve[max_cell_nodes], dNdx[3 * max_cell_nodes];
+    double ve[max_cell_nodes], dNdx[3 * max_cell_nodes];
     double o[max_cell_nodes] = {};
-    for (int a = 0; a < n; ++a) {
-      x[a] = mesh.x[nodes[a]];
-      Te[a] = T[nodes[a]];
-      ve[a] = v[nodes[a]];
-    }
-    const std::span<const Vec3> xs(x, n);
+    for (int a = 0; a < n; ++a) ve[a] = v[nodes[a]];
+    const std::span<const Vec3> xs = cell.xs();
     for (int q = 0; q < tab.n_points; ++q) {
       const double dv = physical_gradients(tab, q, xs, dNdx) * tab.weights[q];
       const double* N = &tab.N[static_cast<std::size_t>(q) * n];
