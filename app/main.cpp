@@ -1,13 +1,20 @@
 // hencky: command line (see docs/cli.md and the contract CASE_FORMAT.md).
-// Exit status: 0 converged, 1 bad input, 2 a step did not converge, 3 internal error.
-#include <cstdio>
+// Exit status: 0 converged, 1 bad input, 2 a step did not converge, 3 internal error,
+// 4 interrupted (SIGINT or SIGTERM; the converged steps and a checkpoint are kept), 130 a second
+// SIGINT stopped the run at once.
 #include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
 #include <omp.h>
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -15,7 +22,9 @@
 #include "core/log.hpp"
 #include "hencky/version.hpp"
 #include "input/case_reader.hpp"
+#include "core/interrupt.hpp"
 #include "input/load_case.hpp"
+#include "output/checkpoint.hpp"
 #include "output/results.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/analysis.hpp"
@@ -33,6 +42,47 @@ long peak_memory_bytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<long>(u.ru_maxrss) * 1024;
+}
+
+// ---- Interruption -----------------------------------------------------------------------------
+// The first SIGINT or SIGTERM asks the step loop to stop (core/interrupt.hpp): it finishes the
+// output and the checkpoint of the last converged step and moves the results into place (exit
+// status 4). A second one stops at once (status 130): the results so far, their checkpoints
+// included, stay in the work directory the message names.
+char interrupt_message[4096] = "";
+char abort_message[4096] = "";
+std::size_t interrupt_length = 0, abort_length = 0;
+
+extern "C" void on_signal(int) {
+  if (!interrupt_requested()) {
+    request_interrupt();
+    if (interrupt_length && par::root())
+      [[maybe_unused]] auto n = ::write(STDERR_FILENO, interrupt_message, interrupt_length);
+    return;
+  }
+  if (abort_length && par::root())
+    [[maybe_unused]] auto n = ::write(STDERR_FILENO, abort_message, abort_length);
+  ::_exit(130);
+}
+
+/// Installs the handlers (after PETSc, which installs its own at its start).
+void catch_interrupts(const fs::path& work_dir) {
+  const std::string first =
+      "\nhencky: interrupted: finishing the output and the checkpoint of the last converged step "
+      "(interrupt again to stop at once)\n";
+  const std::string second = fmt::format(
+      "\nhencky: stopped at once; the results so far and their checkpoints are in {} (hencky "
+      "run CASE --restart {} continues)\n",
+      work_dir.string(), work_dir.string());
+  interrupt_length = std::min(first.size(), sizeof interrupt_message);
+  std::memcpy(interrupt_message, first.data(), interrupt_length);
+  abort_length = std::min(second.size(), sizeof abort_message);
+  std::memcpy(abort_message, second.data(), abort_length);
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
 }
 
 /// Steps no rank may fail alone: every rank reports whether `f` threw, and all stop together
@@ -88,8 +138,37 @@ void add_memory(nlohmann::json& summary) {
   if (par::size() > 1) summary["peak_memory_bytes_all_ranks"] = par::sum(mine);
 }
 
+/// --restart DIR [--from T]: the checkpoint to continue from, read on every rank and checked
+/// against the model; `earlier` gets DIR's checkpoints up to it.
+RunMemory restart_memory(const Model& model, const fs::path& dir, std::optional<double> from,
+                         std::vector<CheckpointEntry>& earlier, Log& log) {
+  const SourceLocation where{"", 0, 0, "--restart"};
+  auto entries = list_checkpoints(dir, where);
+  std::size_t pick = entries.size() - 1;  // the newest
+  if (from) {
+    const double eps = 1e-9 * std::max(1.0, std::abs(*from));
+    auto it = std::find_if(entries.begin(), entries.end(),
+                           [&](const CheckpointEntry& e) { return std::abs(e.time - *from) <= eps; });
+    if (it == entries.end()) {
+      std::string times;
+      for (const auto& e : entries) times += (times.empty() ? "" : ", ") + fmt::format("{:g}", e.time);
+      throw InputError(SourceLocation{"", 0, 0, "--from"},
+                       fmt::format("{} has no checkpoint at t = {:g}; it has checkpoints at t = {}",
+                                   dir.string(), *from, times));
+    }
+    pick = static_cast<std::size_t>(it - entries.begin());
+  }
+  const CheckpointEntry& e = entries[pick];
+  RunMemory run = restore_run(model, read_checkpoint(e.file));
+  log.info("restart: from {} (step {}, t = {:g})", e.file.string(), run.steps, run.committed.time);
+  entries.resize(pick + 1);
+  earlier = std::move(entries);
+  return run;
+}
+
 int run(const std::string& case_path, const std::string& out_dir, bool quiet,
-        const std::string& petsc_options, const std::string& threads_warning) {
+        const std::string& petsc_options, const std::string& threads_warning,
+        const std::string& restart, std::optional<double> from) {
   const auto t_start = Clock::now();
   Log log;
   log.quiet = quiet;
@@ -124,6 +203,14 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
+  std::optional<RunMemory> resume;
+  std::vector<CheckpointEntry> earlier;  // the checkpoints up to the restart's
+  const fs::path restart_dir = restart.empty() ? fs::path() : command_line_dir(restart);
+  if (int code = together([&] {
+        if (!restart.empty()) resume = restart_memory(model, restart_dir, from, earlier, log);
+      }))
+    return code;
+
   std::unique_ptr<LinearSystem> solver;
   std::unique_ptr<HeatSolver> heat;
   if (int code = together([&] {
@@ -134,29 +221,49 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   // Root writes every output (the other ranks' shares of the recovered fields are summed to
   // it).
   std::unique_ptr<ResultWriter> writer;
+  std::unique_ptr<CheckpointWriter> checkpoints;
   if (int code = together([&] {
-        if (par::root()) writer = std::make_unique<ResultWriter>(model, dir, log, dir_where);
+        if (par::root()) {
+          writer = std::make_unique<ResultWriter>(model, dir, log, dir_where);
+          if (resume) earlier = writer->continue_from(restart_dir, resume->steps, earlier);
+        }
+        if (c.output.checkpoint > 0)
+          checkpoints = std::make_unique<CheckpointWriter>(
+              model, writer ? writer->work_dir() : fs::path(), log, earlier);
       }))
     return code;
+  catch_interrupts(writer ? writer->work_dir() : fs::path());
   struct : StepObserver {
     void step_done(const StepReport&, const State&, const RecoveredFields&) override {}
   } nothing;  // the other ranks' observer
   Timings timings;
   AnalysisResult result;
   try {
+    RunOptions options;
+    options.resume = resume ? &*resume : nullptr;
+    options.checkpoints = checkpoints.get();
     result = run_analysis(model, *solver, log, timings,
-                          writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get());
+                          writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get(),
+                          options);
   } catch (const InputError&) {
     if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;
   }
   nlohmann::json summary;
   add_memory(summary);
-  if (!par::root()) return result.status == AnalysisStatus::converged ? 0 : 2;
+  const int status = result.status == AnalysisStatus::converged     ? 0
+                     : result.status == AnalysisStatus::interrupted ? 4
+                                                                    : 2;
+  if (!par::root()) return status;
   const auto& st = solver->stats();
   summary["hencky"] = HENCKY_VERSION;
   summary["title"] = c.title;
-  summary["status"] = result.status == AnalysisStatus::converged ? "converged" : "not-converged";
+  summary["status"] = status == 0 ? "converged" : status == 4 ? "interrupted" : "not-converged";
+  if (resume)
+    summary["restart"] = {{"from", restart_dir.string()},
+                          {"step", resume->steps},
+                          {"time", resume->committed.time}};
+  if (checkpoints) summary["checkpoints"] = checkpoints->written();
   if (!result.failure.empty()) summary["failure"] = result.failure;
   summary["steps"] = result.steps;
   summary["iterations"] = result.iterations;
@@ -198,14 +305,14 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   }
   writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
-           result.status == AnalysisStatus::converged ? "converged" : "stopped", since(t_start),
+           status == 0 ? "converged" : status == 4 ? "interrupted" : "stopped", since(t_start),
            result.steps, result.iterations, dir.string());
   // --quiet drops the progress lines, not the reason a run stopped (exit status 2 alone left
   // the user to find it in hencky.log).
-  if (quiet && result.status != AnalysisStatus::converged)
+  if (quiet && status != 0)
     std::fprintf(stderr, "stopped: %s; the converged steps are in %s\n", result.failure.c_str(),
                  dir.string().c_str());
-  return result.status == AnalysisStatus::converged ? 0 : 2;
+  return status;
 }
 
 int check(const std::string& case_path) {
@@ -268,6 +375,14 @@ int main(int argc, char** argv) {
       "--threads", threads,
       "threads for assembly (default: all cores; at most the hardware threads)");
   run_cmd->add_flag("--quiet", quiet, "no progress lines on the terminal");
+  std::string restart;
+  double from_time = 0;
+  run_cmd->add_option("--restart", restart,
+                      "continue the run whose output directory DIR holds checkpoints, from its "
+                      "newest one (or --from T); the outputs continue DIR's");
+  auto* from_opt = run_cmd->add_option("--from", from_time,
+                                       "with --restart: the time of the checkpoint to continue "
+                                       "from (default: the newest)");
   // PETSc options go in one argument: PETSc's own option names (-o..., -h...) would otherwise
   // be read as hencky's short options.
   std::vector<std::string> petsc_args;
@@ -284,6 +399,10 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 1;
   }
+  if (from_opt->count() > 0 && restart.empty()) {
+    std::cerr << "error: '--from': a checkpoint's time goes with --restart DIR\n";
+    return 1;
+  }
   if (out_opt->count() > 0 && out_dir.empty()) {
     std::cerr << "error: '-o': expected an output directory, found an empty path\n";
     return 1;
@@ -298,7 +417,10 @@ int main(int argc, char** argv) {
   if (par::launched_by_mpirun()) par::start(&argc, &argv);
   int status = 0;
   try {
-    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options, threads_warning)
+    std::optional<double> from;
+    if (from_opt->count() > 0) from = from_time;
+    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options, threads_warning,
+                                     restart, from)
                                : check(case_path);
   } catch (const InputError& e) {
     // Errors of the analysis reach every rank alike (its decisions are collective).

@@ -30,7 +30,9 @@ const std::vector<std::string> auto_none = {"auto", "none"};
 const std::vector<std::string> geometries = {"small", "updated"};
 const std::vector<std::string> correction_forms = {"previous", "current"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
-const std::vector<std::string> output_keys = {"dir", "every", "probes", "reactions", "heat_flows"};
+const std::vector<std::string> output_keys = {"dir",       "every",      "probes",
+                                              "reactions", "heat_flows", "checkpoint",
+                                              "checkpoint_keep"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 
 const KeySection sections[] = {
@@ -237,6 +239,13 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
     o.dir_where = r.at(*x);
   }
   if (auto x = m.get("every")) o.every = r.integer_at_least(*x, 1);
+  // checkpoint: N >= 1 converged steps, or off (0 too); default: at every written step.
+  if (auto x = m.get("checkpoint")) {
+    const bool off = x->node.IsScalar() && x->node.Scalar() == "off";
+    o.checkpoint = off ? 0 : r.integer_at_least(*x, 0);
+  }
+  if (o.checkpoint < 0) o.checkpoint = o.every;
+  if (auto x = m.get("checkpoint_keep")) o.checkpoint_keep = r.integer_at_least(*x, 0);
   if (auto x = m.get("probes")) o.probes = read_probes(r, *x);
   // Regions with a displacement or a heat temperature condition, and with any heat condition,
   // in order.

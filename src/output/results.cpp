@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstdio>
+#include <sstream>
 
 #include "fem/reference_element.hpp"
 
@@ -208,35 +210,38 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   history_.open(work_dir_ / "history.csv");
   if (!history_) cannot_write(final_dir_, work_dir_ / "history.csv", where);
   log_.attach_file((work_dir_ / "hencky.log").string());
-  history_ << "step,time,iterations,residual";
+  std::ostringstream h;
+  h << "step,time,iterations,residual";
   for (const auto& p : model_.probes()) {
     const auto& name = p.spec->name;
-    for (auto ax : axes) history_ << ',' << name << ".displacement." << ax;
-    for (auto c : paraview_names) history_ << ',' << name << ".stress." << c;
-    history_ << ',' << name << ".von_mises," << name << ".equivalent_plastic_strain," << name
+    for (auto ax : axes) h << ',' << name << ".displacement." << ax;
+    for (auto c : paraview_names) h << ',' << name << ".stress." << c;
+    h << ',' << name << ".von_mises," << name << ".equivalent_plastic_strain," << name
              << ".temperature";
   }
   for (const auto& r : model_.reaction_regions())
     if (r.force)
-      for (auto ax : axes) history_ << ",reaction." << r.name << '.' << ax;
+      for (auto ax : axes) h << ",reaction." << r.name << '.' << ax;
   for (const auto& r : model_.reaction_regions())
-    if (r.heat) history_ << ",reaction." << r.name << ".heat";
-  for (const auto& name : model_.spec().output.heat_flows) history_ << ",heat_flow." << name;
+    if (r.heat) h << ",reaction." << r.name << ".heat";
+  for (const auto& name : model_.spec().output.heat_flows) h << ",heat_flow." << name;
   for (const auto& c : model_.contacts())
-    history_ << ",contact." << c.spec->name << ".force,contact." << c.spec->name << ".nodes";
+    h << ",contact." << c.spec->name << ".force,contact." << c.spec->name << ".nodes";
   // Added after the contract's columns (scripts that read by name or position keep working).
-  history_ << ",delta_sigma,delta_epsilon,factorizations,plastic_points";
+  h << ",delta_sigma,delta_epsilon,factorizations,plastic_points";
   for (const auto& c : model_.contacts()) {
-    for (auto ax : axes) history_ << ",contact." << c.spec->name << ".resultant." << ax;
-    history_ << ",contact." << c.spec->name << ".max_penetration,contact." << c.spec->name
+    for (auto ax : axes) h << ",contact." << c.spec->name << ".resultant." << ax;
+    h << ",contact." << c.spec->name << ".max_penetration,contact." << c.spec->name
              << ".max_pressure";
   }
   for (const auto& p : model_.probes()) {
     for (const char* field : strain_fields)
-      for (auto c : paraview_names) history_ << ',' << p.spec->name << '.' << field << '.' << c;
-    history_ << ',' << p.spec->name << ".equivalent_elastoplastic_strain";
+      for (auto c : paraview_names) h << ',' << p.spec->name << '.' << field << '.' << c;
+    h << ',' << p.spec->name << ".equivalent_elastoplastic_strain";
   }
-  history_ << '\n';
+  h << '\n';
+  header_ = h.str();
+  history_ << header_;
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
   // A run that stops before its first step converges still reports the three groups (empty).
   final_values_ = {{"probes", nlohmann::json::object()},
@@ -402,6 +407,76 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   const std::string name = fmt::format("step_{:04d}.vtu", report.step);
   write_vtu(work_dir_ / name, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);
   pvd_->add(report.time, name);
+}
+
+namespace {
+/// `to` as a hard link of `from`, or a copy where links are refused (another file system).
+void link_or_copy(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  fs::create_hard_link(from, to, ec);
+  if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+}
+
+/// The step number of a fields file "step_NNNN.vtu" (-1 for another name).
+int step_of_file(const std::string& name) {
+  int step = -1;
+  char tail[8] = {};
+  if (std::sscanf(name.c_str(), "step_%d.%4s", &step, tail) != 2 || std::string(tail) != "vtu")
+    return -1;
+  return step;
+}
+}  // namespace
+
+std::vector<CheckpointEntry> ResultWriter::continue_from(
+    const fs::path& old, int steps, const std::vector<CheckpointEntry>& checkpoints) {
+  // history.csv: the rows up to the restart's step, when the columns are the same.
+  {
+    std::ifstream in(old / "history.csv");
+    std::string line;
+    if (in && std::getline(in, line)) {
+      if (line + '\n' == header_) {
+        while (std::getline(in, line)) {
+          if (line.empty()) continue;
+          int step = 0;
+          if (std::sscanf(line.c_str(), "%d,", &step) == 1 && step <= steps)
+            history_ << line << '\n';
+        }
+        history_.flush();
+      } else {
+        link_or_copy(old / "history.csv", work_dir_ / "history-before-restart.csv");
+        log_.warn(
+            "the history's columns changed with the case (its output section): history.csv "
+            "starts at the restart, and the rows before it are in history-before-restart.csv");
+      }
+    }
+  }
+  // The fields' files and the series: the entries of results.pvd up to the restart's step.
+  {
+    std::ifstream in(old / "results.pvd");
+    std::string line;
+    std::vector<std::pair<double, std::string>> series;
+    while (in && std::getline(in, line)) {
+      const auto t = line.find("timestep=\""), f = line.find("file=\"");
+      if (t == std::string::npos || f == std::string::npos) continue;
+      const std::string file = line.substr(f + 6, line.find('"', f + 6) - (f + 6));
+      const int step = step_of_file(file);
+      if (step < 1 || step > steps || !fs::exists(old / file)) continue;
+      link_or_copy(old / file, work_dir_ / file);
+      series.emplace_back(std::strtod(line.c_str() + t + 10, nullptr), file);
+    }
+    pvd_->adopt(std::move(series));
+  }
+  // The checkpoints up to the restart's.
+  std::vector<CheckpointEntry> kept;
+  fs::create_directories(work_dir_ / "checkpoints");
+  for (const auto& e : checkpoints) {
+    if (e.step > steps || !fs::exists(e.file)) continue;
+    CheckpointEntry k = e;
+    k.file = work_dir_ / "checkpoints" / e.file.filename();
+    link_or_copy(e.file, k.file);
+    kept.push_back(std::move(k));
+  }
+  return kept;
 }
 
 void ResultWriter::finish(nlohmann::json summary) {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "output/checkpoint.hpp"
 #include "output/vtu_writer.hpp"
 #include "solve/analysis.hpp"
 #include "solve/recovery.hpp"
@@ -79,6 +80,15 @@ class ResultWriter final : public StepObserver {
   void step_done(const StepReport& report, const State& state,
                  const RecoveredFields& fields) override;
 
+  /// A restart (`--restart`): takes over from the output directory `old` what its run wrote up
+  /// to step `steps` (its history rows, its fields' files and their series entries, and its
+  /// checkpoints, listed in `checkpoints`), so that this run's outputs continue them. Files are
+  /// hard-linked where the file system allows it (copied otherwise). Returns the checkpoints
+  /// now in the work directory. A history whose columns differ (the output section changed) is
+  /// kept whole as history-before-restart.csv.
+  std::vector<CheckpointEntry> continue_from(const std::filesystem::path& old, int steps,
+                                             const std::vector<CheckpointEntry>& checkpoints);
+
   /// Writes summary.json and moves the directory into place (replacing the old one).
   void finish(nlohmann::json summary);
   /// Deletes the work directory (the run stopped on bad input: nothing is kept).
@@ -94,6 +104,7 @@ class ResultWriter final : public StepObserver {
   std::unique_ptr<PvdWriter> pvd_;
   nlohmann::json final_values_;
   std::vector<double> zeros_;
+  std::string header_;  ///< history.csv's first line
   bool finished_ = false;
 };
 

@@ -321,6 +321,20 @@ PvdWriter::PvdWriter(std::filesystem::path pvd_path) : path_(std::move(pvd_path)
 
 void PvdWriter::add(double time, const std::string& vtu_file_name) {
   steps_.emplace_back(time, vtu_file_name);
+  try {
+    write();
+  } catch (...) {
+    steps_.pop_back();  // so that a retry of the same step does not list it twice
+    throw;
+  }
+}
+
+void PvdWriter::adopt(std::vector<std::pair<double, std::string>> steps) {
+  steps_ = std::move(steps);
+  write();
+}
+
+void PvdWriter::write() const {
   std::string xml =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"";
   xml += byte_order();
@@ -329,14 +343,9 @@ void PvdWriter::add(double time, const std::string& vtu_file_name) {
     xml += "    <DataSet timestep=\"" + format_double(t) + "\" group=\"\" part=\"0\" file=\"" +
            xml_escape(file) + "\"/>\n";
   xml += "  </Collection>\n</VTKFile>\n";
-  try {
-    AtomicFile out(path_);
-    out.write(xml);
-    out.commit();
-  } catch (...) {
-    steps_.pop_back();  // so that a retry of the same step does not list it twice
-    throw;
-  }
+  AtomicFile out(path_);
+  out.write(xml);
+  out.commit();
 }
 
 }  // namespace hencky

@@ -52,11 +52,14 @@ class PvdWriter {
   /// Appends a step and rewrites the .pvd. vtu_file_name is stored as given: it should be
   /// relative to the directory of the .pvd. Throws std::runtime_error on I/O failure.
   void add(double time, const std::string& vtu_file_name);
+  /// Starts the series with `steps` (time, file) of an earlier run (a restart) and writes it.
+  void adopt(std::vector<std::pair<double, std::string>> steps);
 
   const std::filesystem::path& path() const { return path_; }
   std::size_t size() const { return steps_.size(); }
 
  private:
+  void write() const;
   std::filesystem::path path_;
   std::vector<std::pair<double, std::string>> steps_;
 };

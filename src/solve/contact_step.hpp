@@ -66,6 +66,11 @@ class ContactStep {
   /// One line per surface for the log of a converged step.
   std::string summary(const State& s) const;
 
+  /// The states whose G is in the matrix (empty before the first assembly).
+  std::vector<std::vector<ContactNode>> assembled() const {
+    return assembled_any_ ? assembled_ : std::vector<std::vector<ContactNode>>();
+  }
+
   static constexpr int max_flips = 6;
 
  private:

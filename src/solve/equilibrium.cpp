@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/interrupt.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/element_matrix.hpp"
 #include "solve/finite_check.hpp"
@@ -161,6 +162,8 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   mixed_last_ = restart_next_ = false;
   searched_.reset();
   for (out.iterations = 0;; ++out.iterations) {
+    if (par::any(interrupt_requested()))  // every rank stops at the same iteration
+      throw Interrupted(fmt::format("interrupted in the step to t = {:g}", t1));
     if (out.iterations > 0)
       ev = searched_ ? *std::exchange(searched_, std::nullopt) : evaluate(c, trial, true);
     if (out.iterations == 1 && contact_.active() && contact_.progress().released > 0 &&
@@ -731,6 +734,7 @@ void Equilibrium::assemble_and_factorize(const State& c, const State& trial, boo
   const State* start = updated_ ? &c : nullptr;
   if (new_elements || !contact_.active() || !system_.restore_cells()) {
     const auto& tangents = points_.tangents();
+    assembled_tangents_ = tangents;
     system_.assemble_cells(
         [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x_, start, e, b); });
     if (contact_.active()) system_.keep_cells();
@@ -740,6 +744,35 @@ void Equilibrium::assemble_and_factorize(const State& c, const State& trial, boo
                         [&](int a, int b, const Mat3& block) { system_.add_block(a, b, block); });
   timings_.assembly += seconds_since(t0);
   factorize();
+}
+
+EquilibriumMemory Equilibrium::memory() const {
+  EquilibriumMemory mem;
+  mem.last_du = last_du_;
+  mem.last_dt = last_dt_;
+  mem.factorized = factorized_;
+  if (factorized_) {
+    mem.assembled_tangents = assembled_tangents_;
+    mem.assembled_contact = contact_.assembled();
+  }
+  mem.tangents = points_.tangents();
+  return mem;
+}
+
+void Equilibrium::resume(const State& c, EquilibriumMemory mem) {
+  last_du_ = std::move(mem.last_du);
+  last_dt_ = mem.last_dt;
+  if (mem.factorized) {
+    // The matrix the run had factorized when it wrote the checkpoint, from what it was made
+    // of: the points' matrices then and the contact states then (which need not be the
+    // converged ones: the matrix is kept while they change little). Under `geometry:
+    // updated`, or with E or ν varying with the temperature, the next step assembles its own.
+    points_.set_tangents(std::move(mem.assembled_tangents));
+    State at = c;
+    if (contact_.active()) at.contact = std::move(mem.assembled_contact);
+    assemble_and_factorize(c, at, true);
+  }
+  points_.set_tangents(std::move(mem.tangents));
 }
 
 void Equilibrium::factorize() {

@@ -43,6 +43,11 @@ class Equilibrium {
   bool step(const State& c, double t1, State& trial, StepOutcome& out);
 
   int factorizations() const { return factorizations_; }
+  /// What the next step takes from the steps before it besides the State.
+  EquilibriumMemory memory() const;
+  /// Continues after a restart from `c` with the memory `mem` of the run that wrote it: the
+  /// same matrix is assembled and factorized again. Collective.
+  void resume(const State& c, EquilibriumMemory mem);
   /// Warnings after a converged step (curves left, temperatures outside tables). Collective.
   void check_curves(const State& s) const { points_.check_curves(s, log_); }
   /// Why the contact kept a failed step from converging (empty without contact).
@@ -100,6 +105,7 @@ class Equilibrium {
   std::vector<Vec3> x_;
   std::vector<double> loads_at_t_, forces_at_t_;  ///< P and ∫Bᵀσ(t) on x_ (updated)
   bool factorized_ = false;
+  std::vector<Tangent> assembled_tangents_;  ///< the points' matrices in the elements' part
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;
   double model_size_ = 0;          ///< diagonal of the mesh's bounding box

@@ -12,6 +12,7 @@
 #include "fem/geometry.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
+#include "core/interrupt.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {
@@ -678,6 +679,8 @@ void HeatSolver::advance(double target) {
   theta_ = rannacher ? 1.0 : spec_.theta;
   while (!targets.empty()) {
     const auto [t1, depth] = targets.back();
+    if (par::any(interrupt_requested()))
+      throw Interrupted(fmt::format("interrupted in the heat step to t = {:g}", t1));
     HeatSnapshot to;
     std::string why;
     if (solve(snapshots_.back(), t1, to, why)) {
@@ -749,6 +752,36 @@ void HeatSolver::committed(double t) {
   const double eps = 1e-12 * std::max(1.0, std::abs(t));
   committed_ = t;
   while (snapshots_.size() > 1 && snapshots_[1].time <= t + eps) snapshots_.pop_front();
+}
+
+HeatMemory HeatSolver::memory() const {
+  HeatMemory mem;
+  mem.snapshots = snapshots_;
+  mem.R_last = R_last_;
+  mem.S_last = S_last_;
+  mem.committed = committed_;
+  mem.steps = steps_;
+  mem.iterations = iterations_;
+  mem.gmres_iterations = gmres_iterations_;
+  return mem;
+}
+
+void HeatSolver::resume(HeatMemory mem) {
+  snapshots_ = std::move(mem.snapshots);
+  R_last_ = std::move(mem.R_last);
+  S_last_ = std::move(mem.S_last);
+  committed_ = mem.committed;
+  steps_ = mem.steps;
+  iterations_ = mem.iterations;
+  gmres_iterations_ = mem.gmres_iterations;
+  // The heat section's own steps after the newest solution: those of the case now (a restart
+  // may change them).
+  next_target_ = 0;
+  if (!snapshots_.empty()) {
+    const double t = snapshots_.back().time, eps = 1e-12 * std::max(1.0, std::abs(t));
+    while (next_target_ < spec_.times.size() && spec_.times[next_target_] <= t + eps)
+      ++next_target_;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -65,6 +65,15 @@ struct HeatSnapshot {
   std::vector<double> energy;    ///< per entry, the heat brought in since t = 0 (J; transient)
 };
 
+/// What the heat analysis carries from one mechanical step to the next (HeatSolver::memory):
+/// its solutions from the last committed time on, and its counts. Nodal: whole on every rank.
+struct HeatMemory {
+  std::deque<HeatSnapshot> snapshots;   ///< empty: the analysis has not started
+  std::vector<double> R_last, S_last;   ///< R and its scale at the newest snapshot
+  double committed = 0;
+  int steps = 0, iterations = 0, gmres_iterations = 0;
+};
+
 class HeatSolver {
  public:
   /// The linear system of the temperature dofs (the same back end as the mechanical one).
@@ -87,6 +96,10 @@ class HeatSolver {
   void at(double t, std::vector<double>& T, std::vector<double>& flow);
   /// The mechanical analysis has converged at time t: no earlier time will be asked for.
   void committed(double t);
+
+  HeatMemory memory() const;
+  /// Continues from the memory of the run that wrote a checkpoint (a restart).
+  void resume(HeatMemory mem);
 
   int steps() const { return steps_; }
   int iterations() const { return iterations_; }

@@ -49,6 +49,8 @@ class PointPass {
   void internal_forces(const State& s, const std::vector<Vec3>& x, std::vector<double>& f) const;
   /// The scheme's matrix at each point, from the last update (plastic materials only).
   const std::vector<Tangent>& tangents() const { return tangent_; }
+  /// Puts the matrices of an earlier pass back (a restart, EquilibriumMemory::tangents).
+  void set_tangents(std::vector<Tangent> t) { tangent_ = std::move(t); }
   /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials
   /// (PointIteration::lambda0, in the order of the cells).
   void initial_strains(std::vector<double>& lambda0) const;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "material/plastic_point.hpp"
 #include "solve/model.hpp"
 
 namespace hencky {
@@ -36,6 +37,29 @@ struct State {
   /// The force history (Equilibrium::history_force): ∫ f dt over the converged steps from
   /// t = 0, with f the force scale of each step.
   double force_integral = 0;
+};
+
+/// What the equilibrium iteration carries from one converged step into the next besides the
+/// State (Equilibrium::memory): a restart puts it back so that the steps after it are those of
+/// the run that was not interrupted, to the last bit. Point data: this rank's points.
+struct EquilibriumMemory {
+  /// newton's predictor (solver.predictor): the last converged increment of the free unknowns
+  /// and its Δt (0: none yet).
+  std::vector<double> last_du;
+  double last_dt = 0;
+  /// A matrix is factorized; it was assembled from `assembled_tangents` (the points' matrices,
+  /// plastic materials only) and, with contact, the contact states `assembled_contact`.
+  bool factorized = false;
+  std::vector<Tangent> assembled_tangents;
+  std::vector<std::vector<ContactNode>> assembled_contact;
+  /// The points' matrices of the last iterate (what the next one's are compared with).
+  std::vector<Tangent> tangents;
+};
+
+/// One target of the step control: a time and its cut-back depth.
+struct StepTarget {
+  double time = 0;
+  int depth = 0;
 };
 
 struct StepReport {

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <deque>
 
+#include "core/interrupt.hpp"
+#include "parallel/mpi.hpp"
 #include "solve/analysis.hpp"
 #include "solve/driver.hpp"
 #include "solve/equilibrium.hpp"
@@ -20,7 +22,23 @@ namespace {
 /// holds the current one and the cut-back targets before it.
 class StepTargets {
  public:
-  explicit StepTargets(const StepTimes& times) : times_(times) { take_next(); }
+  /// The case's times after `after` (0 at the start; a restart's time). `pending`: the targets
+  /// a checkpoint had queued (RunMemory::pending); taken as they are when the case time they
+  /// lead to is still one of the case's times (the same case: the run goes on as it would
+  /// have), else the case's times after `after` are taken from a fresh start.
+  StepTargets(const StepTimes& times, double after, const std::vector<StepTarget>& pending)
+      : times_(times) {
+    if (!pending.empty()) {
+      const std::size_t k = first_after(pending.back().time, false);
+      if (k < times_.size() && times_[k] == pending.back().time && pending.front().time > after) {
+        queue_.assign(pending.begin(), pending.end());
+        next_ = k + 1;
+        return;
+      }
+    }
+    next_ = first_after(after, true);
+    take_next();
+  }
   bool empty() const { return queue_.empty(); }
   double time() const { return queue_.front().time; }
   int depth() const { return queue_.front().depth; }
@@ -34,18 +52,27 @@ class StepTargets {
     queue_.front().depth += 1;
     queue_.push_front({mid, queue_.front().depth});
   }
+  std::vector<StepTarget> pending() const { return {queue_.begin(), queue_.end()}; }
 
  private:
-  struct Target {
-    double time;
-    int depth;
-  };
+  /// The index of the first case time above t (strictly: `strict`), else at or above it.
+  std::size_t first_after(double t, bool strict) const {
+    std::size_t lo = 0, hi = times_.size();
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (strict ? times_[mid] <= t : times_[mid] < t)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return lo;
+  }
   void take_next() {
     if (queue_.empty() && next_ < times_.size()) queue_.push_back({times_[next_++], 0});
   }
   const StepTimes& times_;
   std::size_t next_ = 0;
-  std::deque<Target> queue_;
+  std::deque<StepTarget> queue_;
 };
 
 /// One attempt at the step to t1: true when it converged; `why` says why not. Input errors
@@ -95,7 +122,7 @@ void log_step(const Model& model, const Equilibrium& eq, const StepReport& repor
 }  // namespace
 
 AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
-                            StepObserver& observer, HeatSolver* heat) {
+                            StepObserver& observer, HeatSolver* heat, const RunOptions& options) {
   const auto& spec = model.spec().solver;
   std::unique_ptr<HeatSolver> own_heat;  // a caller that made none: on the case's own options
   if (!heat && model.has_heat()) {
@@ -103,10 +130,60 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     heat = own_heat.get();
   }
   Equilibrium eq(model, system, log, timings, heat);
-  State committed = eq.initial_state(), trial = committed;
   AnalysisResult result;
-  StepTargets targets(spec.times);
-  int factorizations_before = 0;
+  int factorizations_before = 0;  // the factorizations of this process before the step
+  int earlier_factorizations = 0;  // of the run a restart continues
+  State committed;
+  const RunMemory* resume = options.resume;
+  if (resume) {
+    committed = resume->committed;
+    if (heat && resume->heat) heat->resume(*resume->heat);
+    eq.resume(committed, resume->equilibrium);
+    // The restart's factorization of the matrix the run had: in the summary's count, not in
+    // the next step's (whose history row is then the uninterrupted run's).
+    factorizations_before = eq.factorizations();
+    result.steps = resume->steps;
+    result.iterations = resume->iterations;
+    earlier_factorizations = resume->factorizations;
+  } else {
+    committed = eq.initial_state();
+  }
+  State trial = committed;
+  StepTargets targets(spec.times, committed.time,
+                      resume ? resume->pending : std::vector<StepTarget>());
+  auto factorizations = [&] { return earlier_factorizations + eq.factorizations(); };
+  // Checkpoints: at the steps the sink asks for, and at the last converged step of the run
+  // whatever ends it. The memory of a converged step whose checkpoint is not written yet is
+  // kept (a failed attempt after it changes the iteration's memory).
+  CheckpointSink* sink = options.checkpoints;
+  bool unwritten = false;
+  EquilibriumMemory unwritten_eq;
+  std::vector<StepTarget> unwritten_pending;
+  auto write_checkpoint = [&](const EquilibriumMemory& mem, const std::vector<StepTarget>& pending) {
+    RunMemory run;
+    run.equilibrium = mem;
+    if (heat) run.heat = heat->memory();
+    run.pending = pending;
+    run.steps = result.steps;
+    run.iterations = result.iterations;
+    run.factorizations = factorizations();
+    std::swap(run.committed, committed);  // lent, not copied
+    try {
+      sink->write(run);
+    } catch (...) {
+      std::swap(run.committed, committed);
+      throw;
+    }
+    std::swap(run.committed, committed);
+  };
+  auto stop = [&](AnalysisStatus status, std::string why) {
+    result.status = status;
+    result.factorizations = factorizations();
+    result.failure = std::move(why);
+    log.info("{}", result.failure);
+    if (sink && unwritten) write_checkpoint(unwritten_eq, unwritten_pending);
+    return result;
+  };
   while (!targets.empty()) {
     const double t1 = targets.time();
     const int depth = targets.depth();
@@ -114,13 +191,15 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     std::string why;
     bool ok = false;
     try {
+      if (par::any(interrupt_requested()))
+        throw Interrupted(fmt::format("interrupted before the step to t = {:g}", t1));
       ok = attempt(model, eq, committed, t1, trial, result.steps == 0, out, why);
     } catch (const HeatDivergence& e) {  // the heat analysis cut its own steps back already
-      result.status = AnalysisStatus::not_converged;
-      result.factorizations = eq.factorizations();
-      result.failure = e.what();
-      log.info("{}", result.failure);
-      return result;
+      return stop(AnalysisStatus::not_converged, e.what());
+    } catch (const Interrupted& e) {
+      return stop(AnalysisStatus::interrupted,
+                  fmt::format("{} (SIGINT or SIGTERM); the last converged time is t = {:g}",
+                              e.what(), committed.time));
     }
     result.iterations += out.iterations;
     if (!ok) {
@@ -130,12 +209,9 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
         targets.cut_back(mid);
         continue;
       }
-      result.status = AnalysisStatus::not_converged;
-      result.factorizations = eq.factorizations();
-      result.failure =
-          fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1, depth, why);
-      log.info("{}", result.failure);
-      return result;
+      return stop(
+          AnalysisStatus::not_converged,
+          fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1, depth, why));
     }
     targets.reached();
     std::swap(committed, trial);
@@ -153,10 +229,19 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     report.last = targets.empty();
     report.write_fields = report.last || report.step % model.spec().output.every == 0;
     factorizations_before = eq.factorizations();
-    result.factorizations = eq.factorizations();
+    result.factorizations = factorizations();
     log_step(model, eq, report, committed, log);
     const auto t0 = std::chrono::steady_clock::now();
     observer.step_done(report, committed, recover_fields(model, committed, report.write_fields));
+    if (sink) {
+      unwritten = !report.last && !sink->due(report);
+      if (unwritten) {
+        unwritten_eq = eq.memory();
+        unwritten_pending = targets.pending();
+      } else {
+        write_checkpoint(eq.memory(), targets.pending());
+      }
+    }
     timings.output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return result;

@@ -319,6 +319,11 @@ struct OutputSpec {
   std::filesystem::path dir;  ///< absolute; default <case dir>/<case stem>.out
   SourceLocation dir_where;   ///< key output.dir; the case file alone when it is the default
   int every = 1;              ///< >= 1; the last step is always written
+  /// A checkpoint (output/checkpoint.hpp) every `checkpoint` converged steps, and at the last
+  /// converged step of the run; 0 (`off`): none. Default: at every step whose fields are
+  /// written (output.every).
+  int checkpoint = -1;
+  int checkpoint_keep = 0;  ///< the newest N checkpoints are kept; 0: all of them
   std::vector<ProbeSpec> probes;
   std::vector<std::string> reactions;  ///< regions that have a displacement (or a heat
                                        ///< temperature) condition

@@ -1,0 +1,631 @@
+// Checkpoints: the record of a run's memory, its fingerprints, and the files of an output
+// directory (checkpoint.hpp).
+#include "output/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "fem/reference_element.hpp"
+#include "hencky/version.hpp"
+#include "parallel/mpi.hpp"
+
+namespace hencky {
+namespace fs = std::filesystem;
+namespace {
+
+// ---- Fingerprints ---------------------------------------------------------------------------
+
+/// FNV-1a, 64 bits: a fingerprint to tell "the same" from "changed", not a defence against a
+/// forged file (the checksum of the container catches damage).
+class Hash {
+ public:
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h_ = (h_ ^ b[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void add(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof v);
+  }
+  template <class T>
+  void add(const std::vector<T>& v) {
+    add(v.size());
+    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+  }
+  void add(const std::string& s) {
+    add(s.size());
+    bytes(s.data(), s.size());
+  }
+  void add(const PropertyTable& t) {
+    add(t.temperature);
+    add(t.value);
+  }
+  std::int64_t value() const { return static_cast<std::int64_t>(h_); }
+
+ private:
+  std::uint64_t h_ = 14695981039346656037ull;
+};
+
+std::int64_t mesh_fingerprint(const Mesh& mesh) {
+  Hash h;
+  h.add(mesh.n_nodes());
+  for (const Vec3& x : mesh.x) h.bytes(x.data(), 3 * sizeof(double));
+  h.add(mesh.cells.type);
+  h.add(mesh.cells.offset);
+  h.add(mesh.cells.conn);
+  return h.value();
+}
+
+std::int64_t region_fingerprint(const Region& r) {
+  Hash h;
+  h.add(r.dim);
+  h.add(r.cells);
+  h.add(r.nodes);
+  return h.value();
+}
+
+std::int64_t material_fingerprint(const MaterialSpec& m) {
+  Hash h;
+  h.add(m.regions.size());
+  for (const auto& r : m.regions) h.add(r);
+  for (const PropertyTable* t : {&m.E, &m.nu, &m.alpha, &m.conductivity, &m.density,
+                                 &m.specific_heat})
+    h.add(*t);
+  h.add(m.plasticity.has_value());
+  if (m.plasticity) {
+    const CurveSpec& c = m.plasticity->curve;
+    h.add(c.kind);
+    h.add(c.form);
+    h.add(c.tables.size());
+    for (const auto& t : c.tables) {
+      h.add(t.temperature);
+      h.add(t.strain);
+      h.add(t.stress);
+    }
+    h.add(c.yield);
+    h.add(c.hardening);
+    h.add(c.ro_E);
+    h.add(c.ro_alpha);
+    h.add(c.ro_n);
+    h.add(m.plasticity->unloading);
+  }
+  return h.value();
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : "\n") + n;
+  return s;
+}
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  if (s.empty()) return out;
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t nl = s.find('\n', at);
+    out.push_back(s.substr(at, nl == std::string::npos ? std::string::npos : nl - at));
+    if (nl == std::string::npos) return out;
+    at = nl + 1;
+  }
+}
+
+struct Named {
+  std::vector<std::string> names;
+  std::vector<std::int64_t> prints;
+};
+Named regions_of(const Mesh& mesh) {
+  Named n;
+  for (const auto& r : mesh.regions) {
+    n.names.push_back(r.name);
+    n.prints.push_back(region_fingerprint(r));
+  }
+  return n;
+}
+Named materials_of(const Case& c) {
+  Named n;
+  for (const auto& m : c.materials) {
+    n.names.push_back(m.name);
+    n.prints.push_back(material_fingerprint(m));
+  }
+  return n;
+}
+
+void put_named(CheckpointFile& f, const std::string& key, const Named& n) {
+  f.put(key + ".names", join(n.names));
+  f.put(key + ".fingerprints", std::span<const std::int64_t>(n.prints));
+}
+
+/// What differs between the checkpoint's `key` list and the model's ("" when nothing).
+std::string named_change(const CheckpointFile& f, const std::string& key, const Named& now,
+                         const char* what) {
+  const auto names = split(f.text(key + ".names"));
+  const auto& prints = f.i64(key + ".fingerprints", static_cast<long long>(names.size()));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const auto it = std::find(now.names.begin(), now.names.end(), names[i]);
+    if (it == now.names.end())
+      return fmt::format("{} '{}' of the checkpoint's run is not in the case", what, names[i]);
+    if (now.prints[it - now.names.begin()] != prints[i])
+      return fmt::format("{} '{}' is not the one the checkpoint was computed with", what,
+                         names[i]);
+  }
+  for (const auto& n : now.names)
+    if (std::find(names.begin(), names.end(), n) == names.end())
+      return fmt::format("{} '{}' is new: the checkpoint's run had none of that name", what, n);
+  return "";
+}
+
+// ---- Point data ---------------------------------------------------------------------------
+
+/// Where each cell's points start in the whole mesh's order (the order of a checkpoint).
+std::vector<long long> global_offsets(const Model& model) {
+  const auto& cells = model.mesh().cells;
+  std::vector<long long> off(cells.size() + 1, 0);
+  for (int e = 0; e < cells.size(); ++e)
+    off[e + 1] = off[e] + reference_table(cells.type[e]).n_points;
+  return off;
+}
+
+/// A per-point quantity of `width` numbers, this rank's points → the whole mesh's order on
+/// root (collective).
+std::vector<double> gather(const Model& model, const std::vector<long long>& off, int width,
+                           const std::function<void(int, double*)>& get) {
+  std::vector<double> g(static_cast<std::size_t>(off.back()) * width, 0.0);
+  for (int e = 0; e < model.mesh().cells.size(); ++e) {
+    if (!model.holds_points(e)) continue;
+    const int n = model.point_offset(e + 1) - model.point_offset(e);
+    for (int q = 0; q < n; ++q) get(model.point_offset(e) + q, &g[(off[e] + q) * width]);
+  }
+  par::sum_to_root(g);
+  return g;
+}
+
+/// The other way: this rank's points from the whole mesh's order.
+void scatter(const Model& model, const std::vector<long long>& off, int width,
+             const std::vector<double>& g, const std::function<void(int, const double*)>& set) {
+  for (int e = 0; e < model.mesh().cells.size(); ++e) {
+    if (!model.holds_points(e)) continue;
+    const int n = model.point_offset(e + 1) - model.point_offset(e);
+    for (int q = 0; q < n; ++q) set(model.point_offset(e) + q, &g[(off[e] + q) * width]);
+  }
+}
+
+void put_voigt(double* out, const Voigt& v) {
+  for (int c = 0; c < 6; ++c) out[c] = v[c];
+}
+Voigt get_voigt(const double* in) {
+  Voigt v;
+  for (int c = 0; c < 6; ++c) v[c] = in[c];
+  return v;
+}
+
+constexpr int tangent_width = 8;
+void put_tangent(double* out, const Tangent& t) {
+  out[0] = t.dev_scale;
+  out[1] = t.coef;
+  put_voigt(out + 2, t.v);
+}
+Tangent get_tangent(const double* in) {
+  Tangent t;
+  t.dev_scale = in[0];
+  t.coef = in[1];
+  t.v = get_voigt(in + 2);
+  return t;
+}
+
+// ---- Contact ---------------------------------------------------------------------------------
+
+constexpr int contact_width = 11;  // force 3, point 3, normal 3, kappa, gap
+
+void put_contact(CheckpointFile& f, const std::string& key,
+                 const std::vector<std::vector<ContactNode>>& contact) {
+  f.put(key + ".bodies", static_cast<std::int64_t>(contact.size()));
+  for (std::size_t b = 0; b < contact.size(); ++b) {
+    std::vector<double> v;
+    std::vector<std::uint8_t> flags;
+    for (const ContactNode& n : contact[b]) {
+      for (const Vec3* x : {&n.force, &n.point, &n.normal}) v.insert(v.end(), x->data(), x->data() + 3);
+      v.push_back(n.kappa);
+      v.push_back(n.gap);
+      flags.push_back(static_cast<std::uint8_t>(n.contact | (n.separation << 1)));
+    }
+    f.put(fmt::format("{}.{}.values", key, b), std::span<const double>(v));
+    f.put(fmt::format("{}.{}.flags", key, b), std::span<const std::uint8_t>(flags));
+  }
+}
+
+std::vector<std::vector<ContactNode>> get_contact(const CheckpointFile& f, const std::string& key,
+                                                  const Model& model) {
+  std::vector<std::vector<ContactNode>> contact;
+  const auto& bodies = model.contacts();
+  const auto n_bodies = f.integer(key + ".bodies");
+  if (n_bodies == 0) return contact;  // no assembly kept
+  if (n_bodies != static_cast<std::int64_t>(bodies.size()))
+    throw InputError(SourceLocation{f.label(), 0, 0, "contact"},
+                     fmt::format("the case has {} contact surfaces, the checkpoint's run had {}",
+                                 bodies.size(), n_bodies));
+  contact.resize(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const long long n = static_cast<long long>(bodies[b].points.size());
+    const auto& v = f.f64(fmt::format("{}.{}.values", key, b), n * contact_width);
+    const auto& flags = f.u8(fmt::format("{}.{}.flags", key, b), n);
+    contact[b].resize(n);
+    for (long long i = 0; i < n; ++i) {
+      ContactNode& c = contact[b][i];
+      const double* x = &v[i * contact_width];
+      c.force = Vec3(x[0], x[1], x[2]);
+      c.point = Vec3(x[3], x[4], x[5]);
+      c.normal = Vec3(x[6], x[7], x[8]);
+      c.kappa = x[9];
+      c.gap = x[10];
+      c.contact = flags[i] & 1;
+      c.separation = (flags[i] >> 1) & 1;
+    }
+  }
+  return contact;
+}
+
+[[noreturn]] void changed(const CheckpointFile& f, const std::string& key,
+                          const std::string& what) {
+  throw InputError(SourceLocation{f.label(), 0, 0, key},
+                   what + ": a restart continues the same model (mesh, regions, materials); only "
+                          "what comes after the restart time may change");
+}
+
+// ---- Files -----------------------------------------------------------------------------------
+
+/// Writes `bytes` to `path` through path.tmp, flushed to the disk (fsync) before the rename:
+/// the file is either the old one (or absent) or the whole new one.
+void write_durably(const fs::path& path, std::string_view bytes) {
+  const fs::path tmp = fs::path(path).concat(".tmp");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  auto fail = [&](const char* what) {
+    const std::string why = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot {} {}: {}", what, tmp.string(), why));
+  };
+  if (fd < 0) fail("create");
+  for (std::size_t at = 0; at < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + at, bytes.size() - at);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail("write");
+    }
+    at += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) fail("flush");
+  if (::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot write {}: {}", tmp.string(), why));
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(
+        fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
+  }
+}
+
+std::string file_name(int step) { return fmt::format("step_{:06d}.hckp", step); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+CheckpointFile checkpoint_of(const Model& model, const RunMemory& run) {
+  CheckpointFile f;
+  const Mesh& mesh = model.mesh();
+  const State& s = run.committed;
+  f.put("hencky", std::string(HENCKY_VERSION));
+  f.put("title", model.spec().title);
+  f.put("case", model.spec().file.string());
+  f.put("ranks", static_cast<std::int64_t>(par::size()));
+  f.put("mesh.fingerprint", mesh_fingerprint(mesh));
+  f.put("mesh.nodes", static_cast<std::int64_t>(mesh.n_nodes()));
+  f.put("mesh.cells", static_cast<std::int64_t>(mesh.cells.size()));
+  put_named(f, "regions", regions_of(mesh));
+  put_named(f, "materials", materials_of(model.spec()));
+  f.put("time", s.time);
+  const std::int64_t counts[3] = {run.steps, run.iterations, run.factorizations};
+  f.put("counts", std::span<const std::int64_t>(counts));
+  f.put("force_integral", s.force_integral);
+  // Nodal data: whole on every rank.
+  f.put("u", std::span<const double>(s.u));
+  f.put("nodal_temperature", std::span<const double>(s.nodal_temperature));
+  f.put("heat_flow", std::span<const double>(s.heat_flow));
+  f.put("f_ext", std::span<const double>(s.f_ext));
+  f.put("f_int", std::span<const double>(s.f_int));
+  f.put("f_contact", std::span<const double>(s.f_contact));
+  put_contact(f, "contact", s.contact);
+  // Point data, in the whole mesh's order.
+  const auto off = global_offsets(model);
+  f.put("points", static_cast<std::int64_t>(off.back()));
+  f.put("points.stress", gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
+  f.put("points.temperature",
+        gather(model, off, 1, [&](int p, double* o) { o[0] = s.temperature[p]; }));
+  f.put("points.constants", gather(model, off, 3, [&](int p, double* o) {
+          o[0] = s.constants[p].E, o[1] = s.constants[p].nu, o[2] = s.constants[p].alpha;
+        }));
+  f.put("points.plastic_strain",
+        gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.plastic_strain[p]); }));
+  f.put("points.scalars", gather(model, off, 4, [&](int p, double* o) {
+          o[0] = s.eps_p_eq[p], o[1] = s.eps_ep[p], o[2] = s.eps_ep_max[p], o[3] = s.flowing[p];
+        }));
+  // The equilibrium iteration's memory.
+  const EquilibriumMemory& eq = run.equilibrium;
+  const auto& dofs = model.dofs();
+  std::vector<double> du(dofs.n_dofs(), 0.0);
+  if (!eq.last_du.empty())
+    for (int i = 0; i < dofs.n_dofs(); ++i)
+      if (const int k = dofs.eq[i]; k >= 0) du[i] = eq.last_du[k];
+  f.put("equilibrium.last_du", std::span<const double>(du));
+  f.put("equilibrium.last_dt", eq.last_dt);
+  f.put("equilibrium.factorized", static_cast<std::int64_t>(eq.factorized));
+  const bool tangents = !eq.tangents.empty();
+  f.put("equilibrium.has_tangents", static_cast<std::int64_t>(tangents));
+  if (tangents) {
+    f.put("equilibrium.tangents", gather(model, off, tangent_width, [&](int p, double* o) {
+            put_tangent(o, eq.tangents[p]);
+          }));
+    if (eq.factorized)
+      f.put("equilibrium.assembled_tangents",
+            gather(model, off, tangent_width,
+                   [&](int p, double* o) { put_tangent(o, eq.assembled_tangents[p]); }));
+  }
+  put_contact(f, "equilibrium.assembled_contact", eq.assembled_contact);
+  // The step targets still queued.
+  std::vector<double> times;
+  std::vector<std::int64_t> depths;
+  for (const StepTarget& t : run.pending) times.push_back(t.time), depths.push_back(t.depth);
+  f.put("pending.times", std::span<const double>(times));
+  f.put("pending.depths", std::span<const std::int64_t>(depths));
+  // The heat analysis.
+  f.put("heat", static_cast<std::int64_t>(run.heat.has_value()));
+  if (run.heat) {
+    const HeatMemory& h = *run.heat;
+    f.put("heat.snapshots", static_cast<std::int64_t>(h.snapshots.size()));
+    for (std::size_t i = 0; i < h.snapshots.size(); ++i) {
+      const HeatSnapshot& sn = h.snapshots[i];
+      const std::string k = fmt::format("heat.snapshot.{}.", i);
+      f.put(k + "time", sn.time);
+      f.put(k + "T", std::span<const double>(sn.T));
+      f.put(k + "flow", std::span<const double>(sn.flow));
+      f.put(k + "flow_now", std::span<const double>(sn.flow_now));
+      f.put(k + "energy", std::span<const double>(sn.energy));
+    }
+    f.put("heat.R_last", std::span<const double>(h.R_last));
+    f.put("heat.S_last", std::span<const double>(h.S_last));
+    f.put("heat.committed", h.committed);
+    const std::int64_t hc[3] = {h.steps, h.iterations, h.gmres_iterations};
+    f.put("heat.counts", std::span<const std::int64_t>(hc));
+  }
+  return f;
+}
+
+RunMemory restore_run(const Model& model, const CheckpointFile& f) {
+  const Mesh& mesh = model.mesh();
+  if (f.integer("mesh.nodes") != mesh.n_nodes() || f.integer("mesh.cells") != mesh.cells.size() ||
+      f.integer("mesh.fingerprint") != mesh_fingerprint(mesh))
+    changed(f, "mesh",
+            fmt::format("the mesh {} is not the mesh the checkpoint was written with ({} nodes "
+                        "and {} elements then, {} and {} now, or other coordinates or "
+                        "connectivity)",
+                        model.spec().mesh.file.filename().string(), f.integer("mesh.nodes"),
+                        f.integer("mesh.cells"), mesh.n_nodes(), mesh.cells.size()));
+  if (auto why = named_change(f, "regions", regions_of(mesh), "region"); !why.empty())
+    changed(f, "regions", why);
+  if (auto why = named_change(f, "materials", materials_of(model.spec()), "material");
+      !why.empty())
+    changed(f, "materials", why);
+  const bool heat = f.integer("heat") != 0;
+  if (heat != model.has_heat())
+    changed(f, "heat",
+            heat ? "the checkpoint's run had a heat section, the case has none"
+                 : "the case has a heat section, the checkpoint's run had none");
+
+  RunMemory run;
+  State& s = run.committed;
+  const long long n_dofs = model.dofs().n_dofs(), n_nodes = mesh.n_nodes();
+  s.time = f.scalar("time");
+  const auto& counts = f.i64("counts", 3);
+  run.steps = static_cast<int>(counts[0]);
+  run.iterations = static_cast<int>(counts[1]);
+  run.factorizations = static_cast<int>(counts[2]);
+  s.force_integral = f.scalar("force_integral");
+  s.u = f.f64("u", n_dofs);
+  s.nodal_temperature = f.f64("nodal_temperature", n_nodes);
+  s.heat_flow = f.f64("heat_flow", heat ? static_cast<long long>(model.spec().heat.boundary.size())
+                                        : -1);
+  s.f_ext = f.f64("f_ext", n_dofs);
+  s.f_int = f.f64("f_int", n_dofs);
+  s.f_contact = f.f64("f_contact", n_dofs);
+  s.contact = get_contact(f, "contact", model);
+  if (s.contact.size() != model.contacts().size())
+    changed(f, "contact", "the case has contact surfaces, the checkpoint's run had none");
+
+  const auto off = global_offsets(model);
+  const long long n_all = off.back();
+  if (f.integer("points") != n_all)
+    changed(f, "mesh", fmt::format("the checkpoint holds {} integration points, the model has {}",
+                                   f.integer("points"), n_all));
+  const int n = model.n_points();
+  s.stress.resize(n);
+  s.temperature.resize(n);
+  s.constants.resize(n);
+  s.plastic_strain.resize(n);
+  s.eps_p_eq.resize(n);
+  s.eps_ep.resize(n);
+  s.eps_ep_max.resize(n);
+  s.flowing.resize(n);
+  scatter(model, off, 6, f.f64("points.stress", 6 * n_all),
+          [&](int p, const double* v) { s.stress[p] = get_voigt(v); });
+  scatter(model, off, 1, f.f64("points.temperature", n_all),
+          [&](int p, const double* v) { s.temperature[p] = v[0]; });
+  scatter(model, off, 3, f.f64("points.constants", 3 * n_all), [&](int p, const double* v) {
+    s.constants[p] = ElasticConstants{v[0], v[1], v[2]};
+  });
+  scatter(model, off, 6, f.f64("points.plastic_strain", 6 * n_all),
+          [&](int p, const double* v) { s.plastic_strain[p] = get_voigt(v); });
+  scatter(model, off, 4, f.f64("points.scalars", 4 * n_all), [&](int p, const double* v) {
+    s.eps_p_eq[p] = v[0], s.eps_ep[p] = v[1], s.eps_ep_max[p] = v[2];
+    s.flowing[p] = v[3] != 0;
+  });
+
+  EquilibriumMemory& eq = run.equilibrium;
+  const auto& dofs = model.dofs();
+  const auto& du = f.f64("equilibrium.last_du", n_dofs);
+  eq.last_dt = f.scalar("equilibrium.last_dt");
+  if (eq.last_dt > 0) {
+    eq.last_du.assign(dofs.n_free, 0.0);
+    for (int i = 0; i < dofs.n_dofs(); ++i)
+      if (const int k = dofs.eq[i]; k >= 0) eq.last_du[k] = du[i];
+  }
+  eq.factorized = f.integer("equilibrium.factorized") != 0;
+  const bool tangents = f.integer("equilibrium.has_tangents") != 0;
+  if (tangents != model.has_plasticity())
+    changed(f, "materials", "the plasticity of the materials changed");
+  if (tangents) {
+    eq.tangents.resize(n);
+    scatter(model, off, tangent_width, f.f64("equilibrium.tangents", tangent_width * n_all),
+            [&](int p, const double* v) { eq.tangents[p] = get_tangent(v); });
+    if (eq.factorized) {
+      eq.assembled_tangents.resize(n);
+      scatter(model, off, tangent_width,
+              f.f64("equilibrium.assembled_tangents", tangent_width * n_all),
+              [&](int p, const double* v) { eq.assembled_tangents[p] = get_tangent(v); });
+    }
+  }
+  eq.assembled_contact = get_contact(f, "equilibrium.assembled_contact", model);
+  if (eq.factorized && !model.contacts().empty() && eq.assembled_contact.empty())
+    eq.factorized = false;  // assemble afresh (never the case for a checkpoint of ours)
+
+  const auto& times = f.f64("pending.times");
+  const auto& depths = f.i64("pending.depths", static_cast<long long>(times.size()));
+  for (std::size_t i = 0; i < times.size(); ++i)
+    run.pending.push_back({times[i], static_cast<int>(depths[i])});
+
+  if (heat) {
+    HeatMemory h;
+    const auto n_snap = f.integer("heat.snapshots");
+    const long long n_bc = static_cast<long long>(model.spec().heat.boundary.size());
+    for (std::int64_t i = 0; i < n_snap; ++i) {
+      const std::string k = fmt::format("heat.snapshot.{}.", i);
+      HeatSnapshot sn;
+      sn.time = f.scalar(k + "time");
+      sn.T = f.f64(k + "T", n_nodes);
+      sn.flow = f.f64(k + "flow", n_bc);
+      sn.flow_now = f.f64(k + "flow_now");
+      sn.energy = f.f64(k + "energy", n_bc);
+      h.snapshots.push_back(std::move(sn));
+    }
+    h.R_last = f.f64("heat.R_last", n_nodes);
+    h.S_last = f.f64("heat.S_last", n_nodes);
+    h.committed = f.scalar("heat.committed");
+    const auto& hc = f.i64("heat.counts", 3);
+    h.steps = static_cast<int>(hc[0]);
+    h.iterations = static_cast<int>(hc[1]);
+    h.gmres_iterations = static_cast<int>(hc[2]);
+    run.heat = std::move(h);
+  }
+  return run;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::vector<CheckpointEntry> list_checkpoints(const fs::path& dir, const SourceLocation& where) {
+  const fs::path index = dir / "checkpoints" / "index.csv";
+  std::ifstream in(index);
+  if (!in)
+    throw InputError(where, fmt::format("{} holds no checkpoints ({} cannot be read): was it "
+                                        "written with output.checkpoint: off?",
+                                        dir.string(), index.string()));
+  std::vector<CheckpointEntry> out;
+  std::string line;
+  int row = 0;
+  while (std::getline(in, line)) {
+    if (++row == 1 || line.empty()) continue;  // the header
+    std::istringstream ss(line);
+    std::string step, time, file;
+    CheckpointEntry e;
+    try {
+      if (!std::getline(ss, step, ',') || !std::getline(ss, time, ',') ||
+          !std::getline(ss, file) || file.empty() || file.find('/') != std::string::npos)
+        throw std::invalid_argument("columns");
+      e.step = std::stoi(step);
+      e.time = std::stod(time);
+    } catch (const std::exception&) {
+      throw InputError(SourceLocation{index.string(), row, 0, ""},
+                       "expected 'step,time,file' (the index hencky writes); the index is damaged");
+    }
+    e.file = dir / "checkpoints" / file;
+    out.push_back(std::move(e));
+  }
+  if (out.empty())
+    throw InputError(where, fmt::format("{} holds no checkpoints ({} lists none)", dir.string(),
+                                        index.string()));
+  return out;
+}
+
+CheckpointFile read_checkpoint(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot read the checkpoint");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return CheckpointFile::parse(ss.str(), file.string());
+}
+
+CheckpointWriter::CheckpointWriter(const Model& model, const fs::path& dir, Log& log,
+                                   std::vector<CheckpointEntry> earlier)
+    : model_(model), dir_(dir / "checkpoints"), log_(log), entries_(std::move(earlier)) {
+  if (!par::root()) return;
+  fs::create_directories(dir_);
+  if (!entries_.empty()) write_index();
+}
+
+bool CheckpointWriter::due(const StepReport& report) const {
+  const int every = model_.spec().output.checkpoint;
+  return every > 0 && report.step % every == 0;
+}
+
+void CheckpointWriter::write(const RunMemory& run) {
+  if (model_.spec().output.checkpoint == 0) return;
+  const CheckpointFile f = checkpoint_of(model_, run);  // collective
+  if (!par::root()) return;
+  const std::string name = file_name(run.steps);
+  write_durably(dir_ / name, f.serialize());
+  std::erase_if(entries_, [&](const CheckpointEntry& e) { return e.step >= run.steps; });
+  entries_.push_back({run.steps, run.committed.time, dir_ / name});
+  ++written_;
+  // The newest output.checkpoint_keep: the index first, then the files it no longer lists.
+  const int keep = model_.spec().output.checkpoint_keep;
+  std::vector<CheckpointEntry> dropped;
+  if (keep > 0 && static_cast<int>(entries_.size()) > keep) {
+    dropped.assign(entries_.begin(), entries_.end() - keep);
+    entries_.erase(entries_.begin(), entries_.end() - keep);
+  }
+  write_index();
+  for (const auto& e : dropped) {
+    std::error_code ec;
+    fs::remove(e.file, ec);
+  }
+  log_.detail("checkpoint {} (t = {:g})", name, run.committed.time);
+}
+
+void CheckpointWriter::write_index() const {
+  std::string s = "step,time,file\n";
+  for (const auto& e : entries_)
+    s += fmt::format("{},{:.17g},{}\n", e.step, e.time, e.file.filename().string());
+  write_durably(dir_ / "index.csv", s);
+}
+
+}  // namespace hencky

@@ -1,0 +1,254 @@
+// The checkpoint container (checkpoint_file.hpp): writing, and a reader that trusts nothing.
+#include "output/checkpoint_file.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include "core/error.hpp"
+
+static_assert(std::endian::native == std::endian::little,
+              "the checkpoint format is little-endian; a big-endian build needs byte swaps");
+
+namespace hencky {
+namespace {
+
+constexpr char magic[8] = {'H', 'N', 'C', 'K', 'C', 'K', 'P', 'T'};
+constexpr std::size_t header_size = 32;
+constexpr std::size_t max_name = 255;
+
+std::array<std::uint32_t, 256> crc_table() {
+  std::array<std::uint32_t, 256> t{};
+  for (std::uint32_t i = 0; i < 256; ++i) {
+    std::uint32_t c = i;
+    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    t[i] = c;
+  }
+  return t;
+}
+
+template <class T>
+void append(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+template <class T>
+T take(std::string_view bytes, std::size_t at) {
+  T v;
+  std::memcpy(&v, bytes.data() + at, sizeof(T));
+  return v;
+}
+
+std::size_t value_size(CheckpointFile::Type t) {
+  switch (t) {
+    case CheckpointFile::Type::f64:
+    case CheckpointFile::Type::i64:
+      return 8;
+    case CheckpointFile::Type::u8:
+    case CheckpointFile::Type::text:
+      return 1;
+  }
+  return 0;
+}
+
+const char* type_name(CheckpointFile::Type t) {
+  switch (t) {
+    case CheckpointFile::Type::f64:
+      return "float64";
+    case CheckpointFile::Type::i64:
+      return "int64";
+    case CheckpointFile::Type::u8:
+      return "uint8";
+    case CheckpointFile::Type::text:
+      return "text";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::uint32_t crc32(std::string_view bytes) {
+  static const auto table = crc_table();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : bytes) c = table[(c ^ b) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+void CheckpointFile::put(const std::string& name, std::span<const double> v) {
+  Record r;
+  r.type = Type::f64;
+  r.f64.assign(v.begin(), v.end());
+  records_[name] = std::move(r);
+}
+void CheckpointFile::put(const std::string& name, std::span<const std::int64_t> v) {
+  Record r;
+  r.type = Type::i64;
+  r.i64.assign(v.begin(), v.end());
+  records_[name] = std::move(r);
+}
+void CheckpointFile::put(const std::string& name, std::span<const std::uint8_t> v) {
+  Record r;
+  r.type = Type::u8;
+  r.u8.assign(v.begin(), v.end());
+  records_[name] = std::move(r);
+}
+void CheckpointFile::put(const std::string& name, std::string text) {
+  Record r;
+  r.type = Type::text;
+  r.text = std::move(text);
+  records_[name] = std::move(r);
+}
+
+const CheckpointFile::Record& CheckpointFile::get(const std::string& name, Type type,
+                                                  long long expected, std::size_t size) const {
+  const auto it = records_.find(name);
+  const SourceLocation where{label_, 0, 0, ""};
+  if (it == records_.end())
+    throw InputError(where, fmt::format("the checkpoint has no record '{}' (not written by this "
+                                        "version of hencky, or damaged)",
+                                        name));
+  if (it->second.type != type)
+    throw InputError(where, fmt::format("checkpoint record '{}' holds {} values, expected {}", name,
+                                        type_name(it->second.type), type_name(type)));
+  if (expected >= 0 && size != static_cast<std::size_t>(expected))
+    throw InputError(where, fmt::format("checkpoint record '{}' has {} values, expected {} (a "
+                                        "checkpoint of another model?)",
+                                        name, size, expected));
+  return it->second;
+}
+
+const std::vector<double>& CheckpointFile::f64(const std::string& name, long long expected) const {
+  const auto it = records_.find(name);
+  return get(name, Type::f64, expected, it == records_.end() ? 0 : it->second.f64.size()).f64;
+}
+const std::vector<std::int64_t>& CheckpointFile::i64(const std::string& name,
+                                                     long long expected) const {
+  const auto it = records_.find(name);
+  return get(name, Type::i64, expected, it == records_.end() ? 0 : it->second.i64.size()).i64;
+}
+const std::vector<std::uint8_t>& CheckpointFile::u8(const std::string& name,
+                                                    long long expected) const {
+  const auto it = records_.find(name);
+  return get(name, Type::u8, expected, it == records_.end() ? 0 : it->second.u8.size()).u8;
+}
+const std::string& CheckpointFile::text(const std::string& name) const {
+  return get(name, Type::text, -1, 0).text;
+}
+
+std::string CheckpointFile::serialize() const {
+  std::string payload;
+  for (const auto& [name, r] : records_) {
+    append<std::uint32_t>(payload, static_cast<std::uint32_t>(name.size()));
+    payload += name;
+    append<std::uint8_t>(payload, static_cast<std::uint8_t>(r.type));
+    switch (r.type) {
+      case Type::f64:
+        append<std::uint64_t>(payload, r.f64.size());
+        if (!r.f64.empty())
+          payload.append(reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size());
+        break;
+      case Type::i64:
+        append<std::uint64_t>(payload, r.i64.size());
+        if (!r.i64.empty())
+          payload.append(reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size());
+        break;
+      case Type::u8:
+        append<std::uint64_t>(payload, r.u8.size());
+        payload.append(r.u8.begin(), r.u8.end());
+        break;
+      case Type::text:
+        append<std::uint64_t>(payload, r.text.size());
+        payload += r.text;
+        break;
+    }
+  }
+  std::string out(magic, sizeof magic);
+  append<std::uint32_t>(out, checkpoint_format_version);
+  append<std::uint32_t>(out, 0);
+  append<std::uint64_t>(out, payload.size());
+  append<std::uint32_t>(out, crc32(payload));
+  append<std::uint32_t>(out, 0);
+  return out + payload;
+}
+
+CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& label) {
+  const SourceLocation where{label, 0, 0, ""};
+  auto fail = [&](const std::string& why) { return InputError(where, why); };
+  if (bytes.size() < header_size || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+    throw fail("not a hencky checkpoint (its first bytes are not \"HNCKCKPT\")");
+  const auto version = take<std::uint32_t>(bytes, 8);
+  if (version > checkpoint_format_version)
+    throw fail(fmt::format(
+        "the checkpoint is of format version {}, written by a newer hencky; this hencky reads "
+        "version {}: restart with the hencky that wrote it",
+        version, checkpoint_format_version));
+  if (version == 0) throw fail("the checkpoint's format version is 0: the file is damaged");
+  const auto size = take<std::uint64_t>(bytes, 16);
+  if (size != bytes.size() - header_size)
+    throw fail(fmt::format("the checkpoint is truncated or damaged: its header announces {} "
+                           "bytes of data, the file has {}",
+                           size, bytes.size() - header_size));
+  const std::string_view payload = bytes.substr(header_size);
+  if (crc32(payload) != take<std::uint32_t>(bytes, 24))
+    throw fail("the checkpoint is damaged: its checksum (CRC-32) does not match its data");
+  CheckpointFile f;
+  f.label_ = label;
+  std::size_t at = 0;
+  auto need = [&](std::size_t n, const char* what) {
+    if (n > payload.size() - at)
+      throw fail(fmt::format("the checkpoint is damaged: {} at byte {} runs past its end", what,
+                             header_size + at));
+  };
+  while (at < payload.size()) {
+    need(4, "a record's name length");
+    const auto name_size = take<std::uint32_t>(payload, at);
+    at += 4;
+    if (name_size == 0 || name_size > max_name)
+      throw fail(fmt::format("the checkpoint is damaged: a record name of {} bytes at byte {}",
+                             name_size, header_size + at - 4));
+    need(name_size + 1 + 8, "a record's header");
+    std::string name(payload.substr(at, name_size));
+    at += name_size;
+    const auto type = static_cast<Type>(take<std::uint8_t>(payload, at));
+    at += 1;
+    if (value_size(type) == 0)
+      throw fail(fmt::format("the checkpoint is damaged: record '{}' has an unknown type {}", name,
+                             static_cast<int>(type)));
+    const auto count = take<std::uint64_t>(payload, at);
+    at += 8;
+    if (count > (payload.size() - at) / value_size(type))
+      throw fail(fmt::format("the checkpoint is damaged: record '{}' announces {} values, more "
+                             "than the file holds",
+                             name, count));
+    if (f.records_.count(name))
+      throw fail(fmt::format("the checkpoint is damaged: record '{}' appears twice", name));
+    Record r;
+    r.type = type;
+    const char* p = payload.data() + at;
+    switch (type) {
+      case Type::f64:
+        r.f64.resize(count);
+        if (count) std::memcpy(r.f64.data(), p, 8 * count);
+        break;
+      case Type::i64:
+        r.i64.resize(count);
+        if (count) std::memcpy(r.i64.data(), p, 8 * count);
+        break;
+      case Type::u8:
+        r.u8.assign(p, p + count);
+        break;
+      case Type::text:
+        r.text.assign(p, count);
+        break;
+    }
+    at += count * value_size(type);
+    f.records_.emplace(std::move(name), std::move(r));
+  }
+  return f;
+}
+
+}  // namespace hencky

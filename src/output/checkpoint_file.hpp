@@ -1,0 +1,76 @@
+#pragma once
+// The container of a checkpoint (docs/outputs.md, "Checkpoints"): a flat list of named arrays
+// behind a header with a format version and a CRC-32 of everything after the header.
+//
+//   offset  size  content
+//        0     8  magic "HNCKCKPT"
+//        8     4  format version (uint32; this hencky writes and reads 1)
+//       12     4  0 (reserved)
+//       16     8  payload size in bytes (uint64)
+//       24     4  CRC-32 (IEEE 802.3, as zlib's crc32) of the payload
+//       28     4  0 (reserved)
+//       32     -  payload: records, each
+//                   uint32 name length, the name (UTF-8, at most 255 bytes),
+//                   uint8 type (1 float64, 2 int64, 3 uint8, 4 text), uint64 count,
+//                   count values (8, 8, 1, 1 bytes each)
+// All numbers are little-endian. The reader checks the header, the size and the checksum
+// before it looks at a record, and every count against the bytes that are left: a truncated,
+// corrupted or foreign file is an InputError naming it, never a crash.
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hencky {
+
+inline constexpr std::uint32_t checkpoint_format_version = 1;
+
+/// CRC-32 (IEEE, reflected polynomial 0xEDB88320), as zlib's crc32 and `cksum -a crc32b`.
+std::uint32_t crc32(std::string_view bytes);
+
+class CheckpointFile {
+ public:
+  enum class Type : std::uint8_t { f64 = 1, i64 = 2, u8 = 3, text = 4 };
+  struct Record {
+    Type type = Type::f64;
+    std::vector<double> f64;
+    std::vector<std::int64_t> i64;
+    std::vector<std::uint8_t> u8;
+    std::string text;
+  };
+
+  void put(const std::string& name, std::span<const double> v);
+  void put(const std::string& name, std::span<const std::int64_t> v);
+  void put(const std::string& name, std::span<const std::uint8_t> v);
+  void put(const std::string& name, std::string text);
+  void put(const std::string& name, double v) { put(name, std::span<const double>(&v, 1)); }
+  void put(const std::string& name, std::int64_t v) {
+    put(name, std::span<const std::int64_t>(&v, 1));
+  }
+
+  bool has(const std::string& name) const { return records_.count(name) > 0; }
+  /// The record's values; an InputError naming the file and the record when it is missing, of
+  /// another type, or (expected >= 0) not of `expected` values.
+  const std::vector<double>& f64(const std::string& name, long long expected = -1) const;
+  const std::vector<std::int64_t>& i64(const std::string& name, long long expected = -1) const;
+  const std::vector<std::uint8_t>& u8(const std::string& name, long long expected = -1) const;
+  const std::string& text(const std::string& name) const;
+  double scalar(const std::string& name) const { return f64(name, 1)[0]; }
+  std::int64_t integer(const std::string& name) const { return i64(name, 1)[0]; }
+
+  /// The whole file: header and payload.
+  std::string serialize() const;
+  /// Reads a file's bytes; `label` names it in messages. Throws InputError.
+  static CheckpointFile parse(std::string_view bytes, const std::string& label);
+  const std::string& label() const { return label_; }
+
+ private:
+  const Record& get(const std::string& name, Type type, long long expected,
+                    std::size_t size) const;
+  std::map<std::string, Record> records_;
+  std::string label_;
+};
+
+}  // namespace hencky
