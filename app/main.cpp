@@ -3,26 +3,25 @@
 // 4 interrupted (SIGINT or SIGTERM; the converged steps and a checkpoint are kept), 130 a second
 // SIGINT stopped the run at once.
 #include <fmt/format.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <csignal>
-#include <cstdio>
 #include <omp.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
 
+#include "core/interrupt.hpp"
 #include "core/log.hpp"
 #include "hencky/version.hpp"
 #include "input/case_reader.hpp"
-#include "core/interrupt.hpp"
 #include "input/load_case.hpp"
 #include "output/checkpoint.hpp"
 #include "output/results.hpp"
@@ -56,12 +55,12 @@ std::size_t interrupt_length = 0, abort_length = 0;
 extern "C" void on_signal(int) {
   if (!interrupt_requested()) {
     request_interrupt();
-    if (interrupt_length && par::root())
-      [[maybe_unused]] auto n = ::write(STDERR_FILENO, interrupt_message, interrupt_length);
+    if (interrupt_length && par::root()) [[maybe_unused]]
+      auto n = ::write(STDERR_FILENO, interrupt_message, interrupt_length);
     return;
   }
-  if (abort_length && par::root())
-    [[maybe_unused]] auto n = ::write(STDERR_FILENO, abort_message, abort_length);
+  if (abort_length && par::root()) [[maybe_unused]]
+    auto n = ::write(STDERR_FILENO, abort_message, abort_length);
   ::_exit(130);
 }
 
@@ -147,11 +146,13 @@ RunMemory restart_memory(const Model& model, const fs::path& dir, std::optional<
   std::size_t pick = entries.size() - 1;  // the newest
   if (from) {
     const double eps = 1e-9 * std::max(1.0, std::abs(*from));
-    auto it = std::find_if(entries.begin(), entries.end(),
-                           [&](const CheckpointEntry& e) { return std::abs(e.time - *from) <= eps; });
+    auto it = std::find_if(entries.begin(), entries.end(), [&](const CheckpointEntry& e) {
+      return std::abs(e.time - *from) <= eps;
+    });
     if (it == entries.end()) {
       std::string times;
-      for (const auto& e : entries) times += (times.empty() ? "" : ", ") + fmt::format("{:g}", e.time);
+      for (const auto& e : entries)
+        times += (times.empty() ? "" : ", ") + fmt::format("{:g}", e.time);
       throw InputError(SourceLocation{"", 0, 0, "--from"},
                        fmt::format("{} has no checkpoint at t = {:g}; it has checkpoints at t = {}",
                                    dir.string(), *from, times));
@@ -203,19 +204,19 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
-  std::optional<RunMemory> resume;
-  std::vector<CheckpointEntry> earlier;  // the checkpoints up to the restart's
-  const fs::path restart_dir = restart.empty() ? fs::path() : command_line_dir(restart);
-  if (int code = together([&] {
-        if (!restart.empty()) resume = restart_memory(model, restart_dir, from, earlier, log);
-      }))
-    return code;
-
   std::unique_ptr<LinearSystem> solver;
   std::unique_ptr<HeatSolver> heat;
   if (int code = together([&] {
         solver = make_run_solver(*l.model, log, petsc_options);
         heat = make_heat_solver(*l.model, log, petsc_options);
+      }))
+    return code;
+  // After the solver: on several ranks it decided which integration points each rank holds.
+  std::optional<RunMemory> resume;
+  std::vector<CheckpointEntry> earlier;  // the checkpoints up to the restart's
+  const fs::path restart_dir = restart.empty() ? fs::path() : command_line_dir(restart);
+  if (int code = together([&] {
+        if (!restart.empty()) resume = restart_memory(model, restart_dir, from, earlier, log);
       }))
     return code;
   // Root writes every output (the other ranks' shares of the recovered fields are summed to
@@ -242,9 +243,9 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     RunOptions options;
     options.resume = resume ? &*resume : nullptr;
     options.checkpoints = checkpoints.get();
-    result = run_analysis(model, *solver, log, timings,
-                          writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get(),
-                          options);
+    result =
+        run_analysis(model, *solver, log, timings,
+                     writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get(), options);
   } catch (const InputError&) {
     if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;
@@ -260,9 +261,8 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   summary["title"] = c.title;
   summary["status"] = status == 0 ? "converged" : status == 4 ? "interrupted" : "not-converged";
   if (resume)
-    summary["restart"] = {{"from", restart_dir.string()},
-                          {"step", resume->steps},
-                          {"time", resume->committed.time}};
+    summary["restart"] = {
+        {"from", restart_dir.string()}, {"step", resume->steps}, {"time", resume->committed.time}};
   if (checkpoints) summary["checkpoints"] = checkpoints->written();
   if (!result.failure.empty()) summary["failure"] = result.failure;
   summary["steps"] = result.steps;
@@ -305,8 +305,10 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   }
   writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
-           status == 0 ? "converged" : status == 4 ? "interrupted" : "stopped", since(t_start),
-           result.steps, result.iterations, dir.string());
+           status == 0   ? "converged"
+           : status == 4 ? "interrupted"
+                         : "stopped",
+           since(t_start), result.steps, result.iterations, dir.string());
   // --quiet drops the progress lines, not the reason a run stopped (exit status 2 alone left
   // the user to find it in hencky.log).
   if (quiet && status != 0)
@@ -419,9 +421,9 @@ int main(int argc, char** argv) {
   try {
     std::optional<double> from;
     if (from_opt->count() > 0) from = from_time;
-    status = run_cmd->parsed() ? run(case_path, out_dir, quiet, petsc_options, threads_warning,
-                                     restart, from)
-                               : check(case_path);
+    status = run_cmd->parsed()
+                 ? run(case_path, out_dir, quiet, petsc_options, threads_warning, restart, from)
+                 : check(case_path);
   } catch (const InputError& e) {
     // Errors of the analysis reach every rank alike (its decisions are collective).
     if (par::root()) std::cerr << "error: " << e.what() << "\n";

@@ -30,9 +30,8 @@ const std::vector<std::string> auto_none = {"auto", "none"};
 const std::vector<std::string> geometries = {"small", "updated"};
 const std::vector<std::string> correction_forms = {"previous", "current"};
 const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
-const std::vector<std::string> output_keys = {"dir",       "every",      "probes",
-                                              "reactions", "heat_flows", "checkpoint",
-                                              "checkpoint_keep"};
+const std::vector<std::string> output_keys = {
+    "dir", "every", "probes", "reactions", "heat_flows", "checkpoint", "checkpoint_keep"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 
 const KeySection sections[] = {

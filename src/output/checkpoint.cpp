@@ -76,8 +76,8 @@ std::int64_t material_fingerprint(const MaterialSpec& m) {
   Hash h;
   h.add(m.regions.size());
   for (const auto& r : m.regions) h.add(r);
-  for (const PropertyTable* t : {&m.E, &m.nu, &m.alpha, &m.conductivity, &m.density,
-                                 &m.specific_heat})
+  for (const PropertyTable* t :
+       {&m.E, &m.nu, &m.alpha, &m.conductivity, &m.density, &m.specific_heat})
     h.add(*t);
   h.add(m.plasticity.has_value());
   if (m.plasticity) {
@@ -153,8 +153,7 @@ std::string named_change(const CheckpointFile& f, const std::string& key, const 
     if (it == now.names.end())
       return fmt::format("{} '{}' of the checkpoint's run is not in the case", what, names[i]);
     if (now.prints[it - now.names.begin()] != prints[i])
-      return fmt::format("{} '{}' is not the one the checkpoint was computed with", what,
-                         names[i]);
+      return fmt::format("{} '{}' is not the one the checkpoint was computed with", what, names[i]);
   }
   for (const auto& n : now.names)
     if (std::find(names.begin(), names.end(), n) == names.end())
@@ -231,7 +230,8 @@ void put_contact(CheckpointFile& f, const std::string& key,
     std::vector<double> v;
     std::vector<std::uint8_t> flags;
     for (const ContactNode& n : contact[b]) {
-      for (const Vec3* x : {&n.force, &n.point, &n.normal}) v.insert(v.end(), x->data(), x->data() + 3);
+      for (const Vec3* x : {&n.force, &n.point, &n.normal})
+        v.insert(v.end(), x->data(), x->data() + 3);
       v.push_back(n.kappa);
       v.push_back(n.gap);
       flags.push_back(static_cast<std::uint8_t>(n.contact | (n.separation << 1)));
@@ -275,8 +275,9 @@ std::vector<std::vector<ContactNode>> get_contact(const CheckpointFile& f, const
 [[noreturn]] void changed(const CheckpointFile& f, const std::string& key,
                           const std::string& what) {
   throw InputError(SourceLocation{f.label(), 0, 0, key},
-                   what + ": a restart continues the same model (mesh, regions, materials); only "
-                          "what comes after the restart time may change");
+                   what +
+                       ": a restart continues the same model (mesh, regions, materials); only "
+                       "what comes after the restart time may change");
 }
 
 // ---- Files -----------------------------------------------------------------------------------
@@ -316,7 +317,9 @@ void write_durably(const fs::path& path, std::string_view bytes) {
   }
 }
 
-std::string file_name(int step) { return fmt::format("step_{:06d}.hckp", step); }
+std::string file_name(int step) {
+  return fmt::format("step_{:06d}.hckp", step);
+}
 
 }  // namespace
 
@@ -350,7 +353,8 @@ CheckpointFile checkpoint_of(const Model& model, const RunMemory& run) {
   // Point data, in the whole mesh's order.
   const auto off = global_offsets(model);
   f.put("points", static_cast<std::int64_t>(off.back()));
-  f.put("points.stress", gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
+  f.put("points.stress",
+        gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
   f.put("points.temperature",
         gather(model, off, 1, [&](int p, double* o) { o[0] = s.temperature[p]; }));
   f.put("points.constants", gather(model, off, 3, [&](int p, double* o) {
@@ -424,8 +428,7 @@ RunMemory restore_run(const Model& model, const CheckpointFile& f) {
                         f.integer("mesh.cells"), mesh.n_nodes(), mesh.cells.size()));
   if (auto why = named_change(f, "regions", regions_of(mesh), "region"); !why.empty())
     changed(f, "regions", why);
-  if (auto why = named_change(f, "materials", materials_of(model.spec()), "material");
-      !why.empty())
+  if (auto why = named_change(f, "materials", materials_of(model.spec()), "material"); !why.empty())
     changed(f, "materials", why);
   const bool heat = f.integer("heat") != 0;
   if (heat != model.has_heat())
@@ -444,8 +447,8 @@ RunMemory restore_run(const Model& model, const CheckpointFile& f) {
   s.force_integral = f.scalar("force_integral");
   s.u = f.f64("u", n_dofs);
   s.nodal_temperature = f.f64("nodal_temperature", n_nodes);
-  s.heat_flow = f.f64("heat_flow", heat ? static_cast<long long>(model.spec().heat.boundary.size())
-                                        : -1);
+  s.heat_flow =
+      f.f64("heat_flow", heat ? static_cast<long long>(model.spec().heat.boundary.size()) : -1);
   s.f_ext = f.f64("f_ext", n_dofs);
   s.f_int = f.f64("f_int", n_dofs);
   s.f_contact = f.f64("f_contact", n_dofs);
@@ -456,8 +459,9 @@ RunMemory restore_run(const Model& model, const CheckpointFile& f) {
   const auto off = global_offsets(model);
   const long long n_all = off.back();
   if (f.integer("points") != n_all)
-    changed(f, "mesh", fmt::format("the checkpoint holds {} integration points, the model has {}",
-                                   f.integer("points"), n_all));
+    changed(f, "mesh",
+            fmt::format("the checkpoint holds {} integration points, the model has {}",
+                        f.integer("points"), n_all));
   const int n = model.n_points();
   s.stress.resize(n);
   s.temperature.resize(n);
@@ -558,8 +562,8 @@ std::vector<CheckpointEntry> list_checkpoints(const fs::path& dir, const SourceL
     std::string step, time, file;
     CheckpointEntry e;
     try {
-      if (!std::getline(ss, step, ',') || !std::getline(ss, time, ',') ||
-          !std::getline(ss, file) || file.empty() || file.find('/') != std::string::npos)
+      if (!std::getline(ss, step, ',') || !std::getline(ss, time, ',') || !std::getline(ss, file) ||
+          file.empty() || file.find('/') != std::string::npos)
         throw std::invalid_argument("columns");
       e.step = std::stoi(step);
       e.time = std::stod(time);

@@ -189,9 +189,10 @@ CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& 
   if (version == 0) throw fail("the checkpoint's format version is 0: the file is damaged");
   const auto size = take<std::uint64_t>(bytes, 16);
   if (size != bytes.size() - header_size)
-    throw fail(fmt::format("the checkpoint is truncated or damaged: its header announces {} "
-                           "bytes of data, the file has {}",
-                           size, bytes.size() - header_size));
+    throw fail(
+        fmt::format("the checkpoint is truncated or damaged: its header announces {} "
+                    "bytes of data, the file has {}",
+                    size, bytes.size() - header_size));
   const std::string_view payload = bytes.substr(header_size);
   if (crc32(payload) != take<std::uint32_t>(bytes, 24))
     throw fail("the checkpoint is damaged: its checksum (CRC-32) does not match its data");
@@ -221,9 +222,10 @@ CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& 
     const auto count = take<std::uint64_t>(payload, at);
     at += 8;
     if (count > (payload.size() - at) / value_size(type))
-      throw fail(fmt::format("the checkpoint is damaged: record '{}' announces {} values, more "
-                             "than the file holds",
-                             name, count));
+      throw fail(
+          fmt::format("the checkpoint is damaged: record '{}' announces {} values, more "
+                      "than the file holds",
+                      name, count));
     if (f.records_.count(name))
       throw fail(fmt::format("the checkpoint is damaged: record '{}' appears twice", name));
     Record r;

@@ -67,8 +67,7 @@ class CheckpointFile {
   const std::string& label() const { return label_; }
 
  private:
-  const Record& get(const std::string& name, Type type, long long expected,
-                    std::size_t size) const;
+  const Record& get(const std::string& name, Type type, long long expected, std::size_t size) const;
   std::map<std::string, Record> records_;
   std::string label_;
 };

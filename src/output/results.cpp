@@ -217,7 +217,7 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
     for (auto ax : axes) h << ',' << name << ".displacement." << ax;
     for (auto c : paraview_names) h << ',' << name << ".stress." << c;
     h << ',' << name << ".von_mises," << name << ".equivalent_plastic_strain," << name
-             << ".temperature";
+      << ".temperature";
   }
   for (const auto& r : model_.reaction_regions())
     if (r.force)
@@ -232,7 +232,7 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   for (const auto& c : model_.contacts()) {
     for (auto ax : axes) h << ",contact." << c.spec->name << ".resultant." << ax;
     h << ",contact." << c.spec->name << ".max_penetration,contact." << c.spec->name
-             << ".max_pressure";
+      << ".max_pressure";
   }
   for (const auto& p : model_.probes()) {
     for (const char* field : strain_fields)

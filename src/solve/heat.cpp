@@ -9,10 +9,10 @@
 #include <exception>
 #include <mutex>
 
+#include "core/interrupt.hpp"
 #include "fem/geometry.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
-#include "core/interrupt.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {

@@ -68,8 +68,8 @@ struct HeatSnapshot {
 /// What the heat analysis carries from one mechanical step to the next (HeatSolver::memory):
 /// its solutions from the last committed time on, and its counts. Nodal: whole on every rank.
 struct HeatMemory {
-  std::deque<HeatSnapshot> snapshots;   ///< empty: the analysis has not started
-  std::vector<double> R_last, S_last;   ///< R and its scale at the newest snapshot
+  std::deque<HeatSnapshot> snapshots;  ///< empty: the analysis has not started
+  std::vector<double> R_last, S_last;  ///< R and its scale at the newest snapshot
   double committed = 0;
   int steps = 0, iterations = 0, gmres_iterations = 0;
 };

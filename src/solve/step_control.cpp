@@ -131,7 +131,7 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
   }
   Equilibrium eq(model, system, log, timings, heat);
   AnalysisResult result;
-  int factorizations_before = 0;  // the factorizations of this process before the step
+  int factorizations_before = 0;   // the factorizations of this process before the step
   int earlier_factorizations = 0;  // of the run a restart continues
   State committed;
   const RunMemory* resume = options.resume;
@@ -159,7 +159,8 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
   bool unwritten = false;
   EquilibriumMemory unwritten_eq;
   std::vector<StepTarget> unwritten_pending;
-  auto write_checkpoint = [&](const EquilibriumMemory& mem, const std::vector<StepTarget>& pending) {
+  auto write_checkpoint = [&](const EquilibriumMemory& mem,
+                              const std::vector<StepTarget>& pending) {
     RunMemory run;
     run.equilibrium = mem;
     if (heat) run.heat = heat->memory();
