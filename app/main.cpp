@@ -200,6 +200,10 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     }
   const Model& model = *l.model;
   const Case& c = *l.spec;
+  if (int code = together([&] {
+        if (par::root()) check_output_space(model, dir, dir_where, log);
+      }))
+    return code;
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
   for (const auto& line : describe_contact(model)) log.info("{}", line);

@@ -43,6 +43,13 @@ class InputError : public std::runtime_error {
   std::string message_;
 };
 
+/// An output file could not be written (a full disk, a file system that turned read-only, a
+/// file size limit): the run stops with status 2 and keeps the steps written before.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// A step (or the whole analysis) could not be completed numerically: not an input error.
 class SolveError : public std::runtime_error {
  public:

@@ -12,6 +12,7 @@
 #include <functional>
 #include <sstream>
 
+#include "core/error.hpp"
 #include "fem/reference_element.hpp"
 #include "hencky/version.hpp"
 #include "parallel/mpi.hpp"
@@ -291,7 +292,7 @@ void write_durably(const fs::path& path, std::string_view bytes) {
     const std::string why = std::strerror(errno);
     if (fd >= 0) ::close(fd);
     ::unlink(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot {} {}: {}", what, tmp.string(), why));
+    throw OutputError(fmt::format("cannot {} {}: {}", what, tmp.string(), why));
   };
   if (fd < 0) fail("create");
   for (std::size_t at = 0; at < bytes.size();) {
@@ -306,13 +307,13 @@ void write_durably(const fs::path& path, std::string_view bytes) {
   if (::close(fd) != 0) {
     const std::string why = std::strerror(errno);
     ::unlink(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot write {}: {}", tmp.string(), why));
+    throw OutputError(fmt::format("cannot write {}: {}", tmp.string(), why));
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw std::runtime_error(
+    throw OutputError(
         fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
   }
 }

@@ -68,6 +68,13 @@ NodalContact nodal_contact(const Model& model, const State& state);
 /// InputError at `where` (the case's output.dir, or the command line's -o).
 void check_output_dir(const std::filesystem::path& dir, const SourceLocation& where);
 
+/// Checks, before the analysis, that the file system of output directory `dir` has room for
+/// the run's outputs, estimated from the model (a fields file per written step, a checkpoint
+/// per checkpoint step, the newest output.checkpoint_keep of them): an InputError at `where`
+/// when it cannot hold even the first step's, a warning when it cannot hold them all.
+void check_output_space(const Model& model, const std::filesystem::path& dir,
+                        const SourceLocation& where, Log& log);
+
 class ResultWriter final : public StepObserver {
  public:
   /// Creates the work directory next to `final_dir` and starts history.csv, hencky.log and

@@ -11,6 +11,8 @@
 #include <system_error>
 #include <type_traits>
 
+#include "core/error.hpp"
+
 namespace hencky {
 
 namespace {
@@ -126,8 +128,8 @@ class AtomicFile {
     std::error_code ec;
     std::filesystem::rename(tmp_, path_, ec);
     if (ec)
-      throw std::runtime_error("cannot rename " + describe(tmp_) + " to " + describe(path_) + ": " +
-                               ec.message());
+      throw OutputError("cannot rename " + describe(tmp_) + " to " + describe(path_) + ": " +
+                        ec.message());
     committed_ = true;
   }
 
@@ -144,7 +146,7 @@ class AtomicFile {
     const int e = errno;
     std::string msg = what + " (writing " + describe(path_) + ")";
     if (e != 0) msg += ": " + std::string(std::strerror(e));
-    throw std::runtime_error(msg);
+    throw OutputError(msg);
   }
 
   std::filesystem::path path_, tmp_;

@@ -182,7 +182,14 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     result.factorizations = factorizations();
     result.failure = std::move(why);
     log.info("{}", result.failure);
-    if (sink && unwritten) write_checkpoint(unwritten_eq, unwritten_pending);
+    if (sink && unwritten) {
+      try {
+        write_checkpoint(unwritten_eq, unwritten_pending);
+      } catch (const OutputError& e) {  // what was written before stays
+        log.warn(std::string("the checkpoint of the last converged step was not written: ") +
+                 e.what());
+      }
+    }
     return result;
   };
   while (!targets.empty()) {
@@ -233,17 +240,36 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     result.factorizations = factorizations();
     log_step(model, eq, report, committed, log);
     const auto t0 = std::chrono::steady_clock::now();
-    observer.step_done(report, committed, recover_fields(model, committed, report.write_fields));
+    // An output that cannot be written (a full disk) stops the run as a step that fails does:
+    // what was written before stays (status 2). Root writes: every rank learns it.
+    std::string output_failure;
+    try {
+      observer.step_done(report, committed, recover_fields(model, committed, report.write_fields));
+    } catch (const OutputError& e) {
+      output_failure = e.what();
+    }
     if (sink) {
       unwritten = !report.last && !sink->due(report);
       if (unwritten) {
         unwritten_eq = eq.memory();
         unwritten_pending = targets.pending();
       } else {
-        write_checkpoint(eq.memory(), targets.pending());
+        try {
+          write_checkpoint(eq.memory(), targets.pending());  // collective
+        } catch (const OutputError& e) {
+          if (output_failure.empty()) output_failure = e.what();
+        }
       }
     }
     timings.output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (par::any(!output_failure.empty())) {
+      unwritten = false;  // it would fail the same way
+      return stop(
+          AnalysisStatus::not_converged,
+          fmt::format("the outputs of step {} (t = {:g}) cannot be written: {}; what "
+                      "was written before is kept",
+                      report.step, t1, output_failure.empty() ? "see rank 0" : output_failure));
+    }
   }
   return result;
 }

@@ -185,3 +185,34 @@ ex_bad "restart: a checkpoint of a newer format is refused" \
   "$rd/newton.yaml" --restart "$rd/damaged.out" --from 0.8
 ex_bad "restart: a damaged checkpoint is refused" "damaged: its checksum \(CRC-32\) does not match" \
   "$rd/newton.yaml" --restart "$rd/damaged.out" --from 0.9
+
+# --- A full disk. Mid-run, with a file size limit (checkpoints of 0.8 MB, fields files of
+# 0.3 MB on the coarse strip, a limit of 0.5 MB): the first checkpoint cannot be written; the run
+# stops with status 2 and the step's fields are kept in place.
+rm -rf "$rd/fsize.out"
+out="$( (ulimit -f 500; trap '' XFSZ; "$bin" run "$rd/newton.yaml" --quiet -o "$rd/fsize.out") 2>&1)"; rc=$?
+if [ "$rc" -eq 2 ] && grep -q "the outputs of step 1 (t = 0.4) cannot be written: cannot write .*step_000001.hckp.tmp: File too large" <<<"$out" &&
+  [ -f "$rd/fsize.out/step_0001.vtu" ] && [ -f "$rd/fsize.out/summary.json" ]; then
+  ok "restart: an output that cannot be written stops the run (2) and keeps what was written"
+else bad "restart: file size limit: exit $rc, expected 2 with the message and step_0001.vtu kept" "$out"; fi
+# A real full file system, where one can be mounted (root): 1 MB cannot hold the first step's
+# outputs (an error before solving, nothing written); 3 MB holds a few steps (a warning before,
+# status 2 when it is full, the steps written are kept).
+tfs="$rd/tmpfs"
+mkdir -p "$tfs"
+if mount -t tmpfs -o size=1m tmpfs "$tfs" 2>/dev/null; then
+  expect "restart: a file system without room for one step is refused before solving" 1 \
+    "'-o': the file system of .*tmpfs/small.out has 1.0 MB free; the outputs of one step need about 1.[0-9] MB" \
+    -- run "$rd/newton.yaml" -o "$tfs/small.out"
+  [ -z "$(ls -A "$tfs")" ] && ok "restart: ... and nothing is written" || bad "restart: left $(ls "$tfs")"
+  umount "$tfs"
+  mount -t tmpfs -o size=3m tmpfs "$tfs"
+  out="$("$bin" run "$rd/newton.yaml" -o "$tfs/full.out" 2>&1)"; rc=$?
+  if [ "$rc" -eq 2 ] && grep -q "warning: the outputs of this run will take about" <<<"$out" &&
+    grep -q "No space left on device" <<<"$out" && [ -f "$tfs/full.out/step_0001.vtu" ]; then
+    ok "restart: a file system that fills up: warned before, status 2, the steps written kept"
+  else bad "restart: full file system: exit $rc" "$out"; fi
+  umount "$tfs"
+else
+  echo "skip restart: full file system (tmpfs cannot be mounted here)"
+fi
