@@ -173,16 +173,23 @@ std::vector<long long> global_offsets(const Model& model) {
   return off;
 }
 
+/// f(p, g) for every point this rank holds: p its index in the rank's arrays, g in the whole
+/// mesh's order.
+template <class F>
+void for_each_held_point(const Model& model, const std::vector<long long>& off, F&& f) {
+  for (int e = 0; e < model.mesh().cells.size(); ++e) {
+    if (!model.holds_points(e)) continue;
+    const int n = model.point_offset(e + 1) - model.point_offset(e);
+    for (int q = 0; q < n; ++q) f(model.point_offset(e) + q, off[e] + q);
+  }
+}
+
 /// A per-point quantity of `width` numbers, this rank's points → the whole mesh's order on
 /// root (collective).
 std::vector<double> gather(const Model& model, const std::vector<long long>& off, int width,
                            const std::function<void(int, double*)>& get) {
   std::vector<double> g(static_cast<std::size_t>(off.back()) * width, 0.0);
-  for (int e = 0; e < model.mesh().cells.size(); ++e) {
-    if (!model.holds_points(e)) continue;
-    const int n = model.point_offset(e + 1) - model.point_offset(e);
-    for (int q = 0; q < n; ++q) get(model.point_offset(e) + q, &g[(off[e] + q) * width]);
-  }
+  for_each_held_point(model, off, [&](int p, long long i) { get(p, &g[i * width]); });
   par::sum_to_root(g);
   return g;
 }
@@ -190,11 +197,7 @@ std::vector<double> gather(const Model& model, const std::vector<long long>& off
 /// The other way: this rank's points from the whole mesh's order.
 void scatter(const Model& model, const std::vector<long long>& off, int width,
              const std::vector<double>& g, const std::function<void(int, const double*)>& set) {
-  for (int e = 0; e < model.mesh().cells.size(); ++e) {
-    if (!model.holds_points(e)) continue;
-    const int n = model.point_offset(e + 1) - model.point_offset(e);
-    for (int q = 0; q < n; ++q) set(model.point_offset(e) + q, &g[(off[e] + q) * width]);
-  }
+  for_each_held_point(model, off, [&](int p, long long i) { set(p, &g[i * width]); });
 }
 
 void put_voigt(double* out, const Voigt& v) {
