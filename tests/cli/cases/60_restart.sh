@@ -48,6 +48,15 @@ expect "restart: from the newest checkpoint into the same directory" 0 \
   --restart "$rd/newton-copy.out" -o "$rd/newton-copy.out"
 identical "restart: ... which keeps every output" "$rd/newton.out" "$rd/newton-copy.out"
 
+# --- An elastic model: the thermal plate (temperature-dependent E and α, four steps).
+cp -r "$src/examples/thermal-plate" "$rd/tp"
+rm -rf "$rd/tp"/*.out
+"$bin" run "$rd/tp/case.yaml" --quiet >/dev/null 2>&1 || bad "restart: the thermal plate failed"
+expect "restart: thermal plate (elastic) from t = 0.5" 0 "" -- run "$rd/tp/case.yaml" --quiet \
+  --restart "$rd/tp/case.out" --from 0.5 -o "$rd/tp/from-0.5.out"
+identical "restart: the elastic thermal plate from t = 0.5 is the uninterrupted run, to the bit" \
+  "$rd/tp/case.out" "$rd/tp/from-0.5.out"
+
 # --- Contact: the plastic indentation, pressed and lifted back (the contact set, the forces and
 # κ, and newton's predictor carry over).
 cp -r "$src/tests/cli/inputs/issue16/indentation-unload" "$rd/ind"
