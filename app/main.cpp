@@ -232,7 +232,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
           writer = std::make_unique<ResultWriter>(model, dir, log, dir_where);
           if (resume) earlier = writer->continue_from(restart_dir, resume->steps, earlier);
         }
-        if (c.output.checkpoint > 0)
+        if (c.output.checkpoint_every() > 0)
           checkpoints = std::make_unique<CheckpointWriter>(
               model, writer ? writer->work_dir() : fs::path(), log, earlier);
       }))

@@ -243,7 +243,6 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
     const bool off = x->node.IsScalar() && x->node.Scalar() == "off";
     o.checkpoint = off ? 0 : r.integer_at_least(*x, 0);
   }
-  if (o.checkpoint < 0) o.checkpoint = o.every;
   if (auto x = m.get("checkpoint_keep")) o.checkpoint_keep = r.integer_at_least(*x, 0);
   if (auto x = m.get("probes")) o.probes = read_probes(r, *x);
   // Regions with a displacement or a heat temperature condition, and with any heat condition,

@@ -601,12 +601,12 @@ CheckpointWriter::CheckpointWriter(const Model& model, const fs::path& dir, Log&
 }
 
 bool CheckpointWriter::due(const StepReport& report) const {
-  const int every = model_.spec().output.checkpoint;
+  const int every = model_.spec().output.checkpoint_every();
   return every > 0 && report.step % every == 0;
 }
 
 void CheckpointWriter::write(const RunMemory& run) {
-  if (model_.spec().output.checkpoint == 0) return;
+  if (model_.spec().output.checkpoint_every() == 0) return;
   const CheckpointFile f = checkpoint_of(model_, run);  // collective
   if (!par::root()) return;
   const std::string name = file_name(run.steps);

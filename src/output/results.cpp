@@ -223,9 +223,10 @@ void check_output_space(const Model& model, const fs::path& dir, const SourceLoc
   const auto& out = model.spec().output;
   const double steps = static_cast<double>(model.spec().solver.times.size());
   const double vtus = std::floor(steps / out.every) + 1;
-  double checkpoints = out.checkpoint > 0 ? std::floor(steps / out.checkpoint) + 1 : 0;
+  const int every_checkpoint = out.checkpoint_every();
+  double checkpoints = every_checkpoint > 0 ? std::floor(steps / every_checkpoint) + 1 : 0;
   if (out.checkpoint_keep > 0) checkpoints = std::min<double>(checkpoints, out.checkpoint_keep + 1);
-  const double first = vtu + (out.checkpoint > 0 ? checkpoint : 0),
+  const double first = vtu + (every_checkpoint > 0 ? checkpoint : 0),
                all = vtus * vtu + checkpoints * checkpoint;
   auto mb = [](double b) { return fmt::format("{:.1f} MB", b / 1e6); };
   if (free < first)

@@ -324,6 +324,8 @@ struct OutputSpec {
   /// written (output.every).
   int checkpoint = -1;
   int checkpoint_keep = 0;  ///< the newest N checkpoints are kept; 0: all of them
+  /// output.checkpoint resolved: every this many converged steps; 0: none.
+  int checkpoint_every() const { return checkpoint < 0 ? every : checkpoint; }
   std::vector<ProbeSpec> probes;
   std::vector<std::string> reactions;  ///< regions that have a displacement (or a heat
                                        ///< temperature) condition

@@ -172,6 +172,13 @@ else
 fi
 rm -rf "$rd/ind/long.out".partial-*
 
+# --- The default: a case without an output section writes a checkpoint at every step.
+cp -r "$src/tests/cli/inputs/restart" "$rd/cube"
+expect "restart: a case without an output section" 0 "" -- run "$rd/cube/case.yaml" --quiet
+[ "$(cut -d, -f1 "$rd/cube/case.out/checkpoints/index.csv" 2>&1 | tr '\n' ' ')" = "step 1 2 " ] &&
+  ok "restart: ... writes a checkpoint at every step (the default)" ||
+  bad "restart: default checkpoints" "$(cat "$rd/cube/case.out/checkpoints/index.csv" 2>&1)"
+
 # --- output.checkpoint and output.checkpoint_keep.
 sed -E 's/^output:/output:\n  checkpoint: off/' "$rd/newton.yaml" >"$rd/off.yaml"
 expect "restart: output.checkpoint: off writes none" 0 "" -- run "$rd/off.yaml" --quiet
