@@ -73,7 +73,7 @@ void check_finite(const Vec3& x, int triangle, const SourceLocation& where) {
 
 /// Binary STL: 80-byte header, uint32 triangle count, then per triangle 12 little-endian
 /// float32 (normal, three vertices) and a 2-byte attribute.
-Soup read_binary(const std::string& bytes, const SourceLocation& where, double scale) {
+Soup read_binary(std::string_view bytes, const SourceLocation& where, double scale) {
   const std::size_t n = le_u32(bytes.data() + 80);
   Soup soup;
   soup.corners.reserve(3 * n);
@@ -195,15 +195,29 @@ Soup read_ascii(std::string_view text, const SourceLocation& where, double scale
   return soup;
 }
 
-Soup read_stl(const fs::path& file, const SourceLocation& where, double scale) {
+void check_scale(const SourceLocation& where, double scale) {
+  if (!(std::isfinite(scale) && scale > 0))
+    throw InputError(where, fmt::format("the scale of the STL surface must be a positive number, "
+                                        "not {}",
+                                        scale));
+}
+
+/// The bytes of an STL file; `scale` is checked first, as the constructor would.
+std::string read_stl_file(const fs::path& file, double scale) {
+  const SourceLocation where{file.string(), 0, 0, ""};
+  check_scale(where, scale);
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(where, "the STL file does not exist; check the path");
   if (fs::is_directory(file, ec))
     throw InputError(where, "this is a directory, not an STL file; check the path");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(where, "cannot open the STL file for reading; check its permissions");
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw InputError(where, "reading the STL file failed (I/O error)");
+  return bytes;
+}
+
+Soup parse_stl(std::string_view bytes, const SourceLocation& where, double scale) {
   if (bytes.empty()) throw InputError(where, "the STL file is empty");
 
   // A binary file may begin with "solid" too, so the size decides: a binary STL is exactly
@@ -211,10 +225,10 @@ Soup read_stl(const fs::path& file, const SourceLocation& where, double scale) {
   if (bytes.size() >= 84 && 84 + 50 * std::uint64_t{le_u32(bytes.data() + 80)} == bytes.size())
     return read_binary(bytes, where, scale);
   const std::size_t first = bytes.find_first_not_of(" \t\r\n");
-  const bool ascii = first != std::string::npos && bytes.size() - first >= 5 &&
-                     iequals(std::string_view(bytes).substr(first, 5), "solid") &&
+  const bool ascii = first != std::string_view::npos && bytes.size() - first >= 5 &&
+                     iequals(bytes.substr(first, 5), "solid") &&
                      (bytes.size() - first == 5 || is_space(bytes[first + 5])) &&
-                     bytes.find('\0') == std::string::npos;
+                     bytes.find('\0') == std::string_view::npos;
   if (ascii) return read_ascii(bytes, where, scale);
   if (bytes.size() < 84)
     throw InputError(where, fmt::format("not an STL file: it has {} bytes, fewer than the 84 of a "
@@ -295,17 +309,17 @@ double segment_box_entry(const Vec3& lo, const Vec3& hi, double pad, const Vec3&
 
 }  // namespace
 
-StlSurface::StlSurface(const fs::path& file, double scale) {
-  const SourceLocation where{file.string(), 0, 0, ""};
-  if (!(std::isfinite(scale) && scale > 0))
-    throw InputError(where, fmt::format("the scale of the STL surface must be a positive number, "
-                                        "not {}",
-                                        scale));
-  const Soup soup = read_stl(file, where, scale);
+StlSurface::StlSurface(const fs::path& file, double scale)
+    : StlSurface(read_stl_file(file, scale), file.string(), scale) {}
+
+StlSurface::StlSurface(std::string_view bytes, const std::string& name, double scale) {
+  const SourceLocation where{name, 0, 0, ""};
+  check_scale(where, scale);
+  const Soup soup = parse_stl(bytes, where, scale);
   const int n_t = static_cast<int>(soup.corners.size() / 3);
   if (n_t == 0) throw InputError(where, "the STL file contains no triangles");
   auto at_triangle = [&](int t) {  // the facet's line in an ASCII file
-    return SourceLocation{file.string(), soup.line.empty() ? 0 : soup.line[t], 0, ""};
+    return SourceLocation{name, soup.line.empty() ? 0 : soup.line[t], 0, ""};
   };
 
   // Weld corners with exactly equal coordinates; + 0.0 makes -0.0 and 0.0 one key.
@@ -340,7 +354,7 @@ StlSurface::StlSurface(const fs::path& file, double scale) {
   for (const Vec3& x : x_) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   size_ = (hi - lo).norm();
 
-  build_topology(file, soup.line);
+  build_topology(name, soup.line);
 
   // Enclosed volume by the divergence theorem, about a vertex to limit cancellation.
   const Vec3& o = x_[0];
@@ -414,9 +428,9 @@ StlSurface::StlSurface(const fs::path& file, double scale) {
   build_node(centroid, 0, n_t);
 }
 
-void StlSurface::build_topology(const fs::path& file, const std::vector<int>& facet_line) {
+void StlSurface::build_topology(const std::string& name, const std::vector<int>& facet_line) {
   auto at_triangle = [&](int t) {
-    return SourceLocation{file.string(), facet_line.empty() ? 0 : facet_line[t], 0, ""};
+    return SourceLocation{name, facet_line.empty() ? 0 : facet_line[t], 0, ""};
   };
   // Half-edges sorted by their undirected edge: a closed, consistently oriented surface has
   // each edge exactly twice, once in each direction.

@@ -13,6 +13,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "contact/rigid_surface.hpp"
@@ -25,6 +27,9 @@ class StlSurface : public RigidSurface {
   /// Throws InputError naming the file (and the line of an ASCII file) when the file cannot be
   /// read or does not describe a closed, outward-oriented triangulated solid.
   explicit StlSurface(const std::filesystem::path& file, double scale = 1.0);
+  /// The same from the bytes of an STL file; `name` is the file in messages (the fuzz target,
+  /// fuzz/fuzz_stl.cpp, goes through this one).
+  StlSurface(std::string_view bytes, const std::string& name, double scale);
 
   double signed_distance(const Vec3& p) const override;
   /// The normal is the facets' own at creases (dihedral angles above 30°) and interpolated
@@ -66,7 +71,7 @@ class StlSurface : public RigidSurface {
     int count = 0;  ///< triangles of a leaf, 0 for an inner node
   };
 
-  void build_topology(const std::filesystem::path& file, const std::vector<int>& facet_line);
+  void build_topology(const std::string& name, const std::vector<int>& facet_line);
   int build_node(const std::vector<Vec3>& centroid, int begin, int end);
   Closest closest(const Vec3& p, int* n_tested) const;
   /// Angle-weighted pseudo-normal of the feature a closest point lies on.

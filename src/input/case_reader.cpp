@@ -167,14 +167,19 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
 // ---------------------------------------------------------------------------------------------
 
 Case read_case(const fs::path& case_file) {
-  using namespace case_input;
-  const std::string label = case_file.string();
   // fs::absolute throws on an empty path: say what a missing file says.
   if (case_file.empty())
     throw InputError(SourceLocation{}, "case file not found: the path is empty (\"\")");
+  return read_case_text(
+      case_input::read_text(case_file.string(), fs::absolute(case_file).lexically_normal()),
+      case_file);
+}
+
+Case read_case_text(const std::string& text, const fs::path& case_file) {
+  using namespace case_input;
+  const std::string label = case_file.string();
   Case c;
   c.file = fs::absolute(case_file).lexically_normal();
-  const std::string text = read_text(label, c.file);
   const YAML::Node root = parse_yaml(label, text);
 
   const Reader r(label, c.file.parent_path(), key_sections());

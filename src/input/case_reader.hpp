@@ -1,6 +1,7 @@
 #pragma once
 // Reading a case file (YAML) into the plain structs of spec/case.hpp.
 #include <filesystem>
+#include <string>
 
 #include "spec/case.hpp"
 
@@ -11,5 +12,10 @@ namespace hencky {
 /// misspelt keys and values. Paths in the result are absolute (relative ones are taken from
 /// the case file's folder). Does not read the mesh.
 Case read_case(const std::filesystem::path& case_file);
+
+/// read_case on a case file's text, as if it had been read from `case_file` (which need not
+/// exist, and must not be empty): messages name it, and relative paths are taken from its
+/// folder. For the fuzz target (fuzz/fuzz_case.cpp), which must not go through the disk.
+Case read_case_text(const std::string& text, const std::filesystem::path& case_file);
 
 }  // namespace hencky

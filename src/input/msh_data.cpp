@@ -232,9 +232,12 @@ class MeshBuilder {
         if (e->dim == 3) all.push_back(e->tag);
       volume_groups.emplace_back(-1, all);
     }
-    for (auto& [region, ents] : volume_groups)
-      for (int ent : ents)
+    // Not a structured binding: clang before 16 cannot capture one in the lambda.
+    for (const auto& group : volume_groups) {
+      const int region = group.first;
+      for (int ent : group.second)
         for_each_block(3, ent, [&](const MshData::Block& b) { add_cells(b, region); });
+    }
     if (mesh_.cells.size() == 0) {
       const bool any =
           std::any_of(data_.blocks.begin(), data_.blocks.end(),

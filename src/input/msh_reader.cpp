@@ -201,7 +201,9 @@ class Parser {
       if (data_size != 8)
         throw error(vat, "binary data size " + std::to_string(data_size) + " is not read (8 is)");
       while (pos_ < s_.size() && s_[pos_] != '\n') ++pos_;  // the rest of the version line
-      ++pos_;
+      // Not past the end when the line has no newline: pos_ > size would wrap the size checks
+      // (found by fuzz/fuzz_msh.cpp, a read past the end).
+      if (pos_ < s_.size()) ++pos_;
       binary_start_ = pos_;
       if (bin<int>("the endianness check") != 1)
         throw error(pos_, "the binary file was written on a machine of other endianness");

@@ -23,10 +23,16 @@ expect_cmd() {
 # expect NAME STATUS PATTERN -- ARGS... : expect_cmd on the hencky binary.
 expect() { expect_cmd "$1" "$2" "$3" -- "$bin" "${@:5}"; }
 
+# HENCKY_CLI_SKIP: case files to leave out, by name without .sh ("10_examples 40_parallel"):
+# the sanitizer stage of CI leaves out the slowest (scripts/sanitize.sh).
 for f in "$src"/tests/cli/cases/*.sh; do
   [ -e "$f" ] || continue
+  case_name="$(basename "$f" .sh)"
+  if [[ " ${HENCKY_CLI_SKIP:-} " == *" $case_name "* ]]; then echo "skip $case_name.sh"; continue; fi
+  case_t0=$SECONDS
   # shellcheck disable=SC1090
   . "$f"
+  echo "# $case_name.sh: $((SECONDS - case_t0)) s"
 done
 
 echo "$pass passed, $fail failed"

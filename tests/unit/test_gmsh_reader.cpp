@@ -396,15 +396,16 @@ TEST(GmshReader, MalformedMshFilesAreInputErrorsNamingTheLine) {
       {"node-minus-one", replaced(one_tet, "1 1 2 3 4\n", "1 -1 2 3 4\n"),
        ":19: not a valid Gmsh mesh file: element 1 has node -1, which $Nodes does not define"},
       {"node-2-31", replaced(one_tet, "1 1 2 3 4\n", "1 2147483648 2 3 4\n"),
-       ":19: not a valid Gmsh mesh file: element 1 has node 2147483648, which $Nodes does not define"},
+       ":19: not a valid Gmsh mesh file: element 1 has node 2147483648, which $Nodes does not "
+       "define"},
       {"nodes-count-small", replaced(one_tet, "1 4 1 4\n", "1 1 1 4\n"),
        ":6: not a valid Gmsh mesh file: the node blocks hold more nodes than the $Nodes header "
        "announces (1)"},
       {"nodes-count-large", replaced(one_tet, "1 4 1 4\n", "1 5 1 4\n"),
        "the $Nodes header announces 5 nodes, its blocks hold 4"},
       {"elements-count-small",
-       replaced(replaced(two_tets_nodes, "1 1 1 1\n3 1 4 1\n", "1 0 1 2\n3 1 4 2\n"),
-                "1 1 2 3 4\n", "1 1 2 3 4\n2 2 3 4 5\n"),
+       replaced(replaced(two_tets_nodes, "1 1 1 1\n3 1 4 1\n", "1 0 1 2\n3 1 4 2\n"), "1 1 2 3 4\n",
+                "1 1 2 3 4\n2 2 3 4 5\n"),
        ":20: not a valid Gmsh mesh file: the element blocks hold more elements than the $Elements "
        "header announces (0)"},
       {"v2-body-under-4.0",
@@ -430,13 +431,22 @@ TEST(GmshReader, MalformedMshFilesAreInputErrorsNamingTheLine) {
       {"unclosed-section", replaced(one_tet, "$EndMeshFormat\n", "$EndMeshFormat\n$Comments\nhi\n"),
        "section $Comments has no $EndComments"},
       {"version-3", replaced(one_tet, "4.1 0 8", "3.0 0 8"),
-       ":2: not a valid Gmsh mesh file: MSH format version '3.0' is not read (2.2, 4.0 and 4.1 are)"},
-      {"binary-data-size-4", replaced(one_tet, "4.1 0 8", "4.1 1 4"), "binary data size 4 is not read"},
-      {"partitioned", replaced(one_tet, "$EndMeshFormat\n", "$EndMeshFormat\n$PartitionedEntities\n"),
+       ":2: not a valid Gmsh mesh file: MSH format version '3.0' is not read (2.2, 4.0 and 4.1 "
+       "are)"},
+      {"binary-data-size-4", replaced(one_tet, "4.1 0 8", "4.1 1 4"),
+       "binary data size 4 is not read"},
+      // Found by fuzz/fuzz_msh.cpp: a binary file whose version line has no newline was read past
+      // its end (fuzz/corpus/msh/regress-binary-version-line-unended.msh).
+      {"binary-version-line-unended", "$MeshFormat\n4.1 1 8 \"x\"",
+       "the file ends where the endianness check was expected"},
+      {"partitioned",
+       replaced(one_tet, "$EndMeshFormat\n", "$EndMeshFormat\n$PartitionedEntities\n"),
        "partitioned meshes are not read"},
-      {"not-a-mesh", "solid cube\nendsolid\n", ":1: not a valid Gmsh mesh file: the file does not start with $MeshFormat"},
+      {"not-a-mesh", "solid cube\nendsolid\n",
+       ":1: not a valid Gmsh mesh file: the file does not start with $MeshFormat"},
       {"msh2-node-zero",
-       "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n0 0 0 0\n$EndNodes\n$Elements\n0\n$EndElements\n",
+       "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n0 0 0 "
+       "0\n$EndNodes\n$Elements\n0\n$EndElements\n",
        ":6: not a valid Gmsh mesh file: node tag 0 (tags are positive)"},
       {"msh2-unknown-node",
        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n$Elements\n1\n"

@@ -317,7 +317,10 @@ void expect_slopes(const std::string& what, const std::function<Hardening::Point
 }
 
 TEST(Hardening, SlopesAreDerivatives) {
-  for (const auto& [name, h] : all_curves()) {
+  // Not a structured binding: clang before 16 cannot capture one in the lambdas below.
+  for (const auto& curve : all_curves()) {
+    const std::string& name = curve.first;
+    const Hardening& h = curve.second;
     const bool smooth = name == "ramberg_osgood";
     for (double T : temperatures) {
       SCOPED_TRACE(name + " at T = " + std::to_string(T));

@@ -21,8 +21,9 @@ using namespace hencky;
 
 // Gmsh 4.8 leaks the face closures it builds for the prism basis (ClosureGen::getFaceClosurePrism);
 // keep LeakSanitizer (HENCKY_SANITIZE builds) quiet about that one. Weak, so that a project-wide
-// definition elsewhere wins; unused without the sanitizer.
-extern "C" __attribute__((weak)) const char* __lsan_default_suppressions() {
+// definition elsewhere wins; unused without the sanitizer. Visible: gcc's shared sanitizer
+// runtime looks it up in the program's exported symbols.
+extern "C" __attribute__((weak, visibility("default"))) const char* __lsan_default_suppressions() {
   return "leak:ClosureGen::getFaceClosurePrism\n";
 }
 

@@ -550,12 +550,12 @@ TEST_F(VtuWriter, IoFailureNamesThePath) {
 TEST_F(VtuWriter, LargeMeshIsWrittenInOnePass) {
   // 200k hexahedra on a structured block: checks the buffered path and the offsets of blocks
   // larger than the buffer.
-  const int m = 59;  // 59^3 = 205379 cells
+  constexpr int m = 59;  // 59^3 = 205379 cells
   std::vector<Vec3> x;
   for (int k = 0; k <= m; ++k)
     for (int j = 0; j <= m; ++j)
       for (int i = 0; i <= m; ++i) x.emplace_back(i, j, k);
-  auto id = [m](int i, int j, int k) { return i + (m + 1) * (j + (m + 1) * k); };
+  auto id = [](int i, int j, int k) { return i + (m + 1) * (j + (m + 1) * k); };
   CellSet cells;
   cells.type.reserve(m * m * m);
   for (int k = 0; k < m; ++k)

@@ -55,7 +55,11 @@ t0=$(date +%s%N)
 expect_cmd "issue 14: solver.steps: 10^6 checks (and says so)" 0 "steps: 1000000$" -- \
   timeout 20 "$bin" check "$cd_/steps-1e6.yaml"
 ms=$(( ($(date +%s%N) - t0) / 1000000 ))
-[ "$ms" -lt 1000 ] && ok "issue 14: ... in under 1 s (${ms} ms)" || bad "issue 14: check of 10^6 steps took ${ms} ms"
+# HENCKY_CLI_TIME_FACTOR: the sanitizer stage (scripts/sanitize.sh) runs the same checks
+# several times slower; the limit grows with it.
+limit_ms=$((1000 * ${HENCKY_CLI_TIME_FACTOR:-1}))
+[ "$ms" -lt "$limit_ms" ] && ok "issue 14: ... in under $limit_ms ms (${ms} ms)" ||
+  bad "issue 14: check of 10^6 steps took ${ms} ms (limit $limit_ms ms)"
 
 # --- NaN results reported as converged (exit 0, residual 0, nan in history.csv).
 # A temperature whose thermal stress overflows (1e308 * alpha * E): an input error before solving,
