@@ -139,8 +139,8 @@ void add_memory(nlohmann::json& summary) {
 
 /// --restart DIR [--from T]: the checkpoint to continue from, read on every rank and checked
 /// against the model; `earlier` gets DIR's checkpoints up to it.
-RunMemory restart_memory(const Model& model, const fs::path& dir, std::optional<double> from,
-                         std::vector<CheckpointEntry>& earlier, Log& log) {
+Restart restart_memory(const Model& model, const fs::path& dir, std::optional<double> from,
+                       std::vector<CheckpointEntry>& earlier, Log& log) {
   const SourceLocation where{"", 0, 0, "--restart"};
   auto entries = list_checkpoints(dir, where);
   std::size_t pick = entries.size() - 1;  // the newest
@@ -160,11 +160,11 @@ RunMemory restart_memory(const Model& model, const fs::path& dir, std::optional<
     pick = static_cast<std::size_t>(it - entries.begin());
   }
   const CheckpointEntry& e = entries[pick];
-  RunMemory run = restore_run(model, read_checkpoint(e.file));
-  log.info("restart: from {} (step {}, t = {:g})", e.file.string(), run.steps, run.committed.time);
+  Restart r = restore_run(model, read_checkpoint(e.file));
+  log.info("restart: from {} (step {}, t = {:g})", e.file.string(), r.run.steps, r.committed.time);
   entries.resize(pick + 1);
   earlier = std::move(entries);
-  return run;
+  return r;
 }
 
 int run(const std::string& case_path, const std::string& out_dir, bool quiet,
@@ -216,7 +216,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       }))
     return code;
   // After the solver: on several ranks it decided which integration points each rank holds.
-  std::optional<RunMemory> resume;
+  std::optional<Restart> resume;
   std::vector<CheckpointEntry> earlier;  // the checkpoints up to the restart's
   const fs::path restart_dir = restart.empty() ? fs::path() : command_line_dir(restart);
   if (int code = together([&] {
@@ -230,7 +230,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   if (int code = together([&] {
         if (par::root()) {
           writer = std::make_unique<ResultWriter>(model, dir, log, dir_where);
-          if (resume) earlier = writer->continue_from(restart_dir, resume->steps, earlier);
+          if (resume) earlier = writer->continue_from(restart_dir, resume->run.steps, earlier);
         }
         if (c.output.checkpoint_every() > 0)
           checkpoints = std::make_unique<CheckpointWriter>(
@@ -265,8 +265,9 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   summary["title"] = c.title;
   summary["status"] = status == 0 ? "converged" : status == 4 ? "interrupted" : "not-converged";
   if (resume)
-    summary["restart"] = {
-        {"from", restart_dir.string()}, {"step", resume->steps}, {"time", resume->committed.time}};
+    summary["restart"] = {{"from", restart_dir.string()},
+                          {"step", resume->run.steps},
+                          {"time", resume->committed.time}};
   if (checkpoints) summary["checkpoints"] = checkpoints->written();
   if (!result.failure.empty()) summary["failure"] = result.failure;
   summary["steps"] = result.steps;

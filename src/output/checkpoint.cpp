@@ -122,21 +122,21 @@ struct Named {
   std::vector<std::string> names;
   std::vector<std::int64_t> prints;
 };
-Named regions_of(const Mesh& mesh) {
+/// The names of `list`'s entries and their fingerprints.
+template <class List, class Print>
+Named named(const List& list, Print print) {
   Named n;
-  for (const auto& r : mesh.regions) {
-    n.names.push_back(r.name);
-    n.prints.push_back(region_fingerprint(r));
+  for (const auto& x : list) {
+    n.names.push_back(x.name);
+    n.prints.push_back(print(x));
   }
   return n;
 }
+Named regions_of(const Mesh& mesh) {
+  return named(mesh.regions, region_fingerprint);
+}
 Named materials_of(const Case& c) {
-  Named n;
-  for (const auto& m : c.materials) {
-    n.names.push_back(m.name);
-    n.prints.push_back(material_fingerprint(m));
-  }
-  return n;
+  return named(c.materials, material_fingerprint);
 }
 
 void put_named(CheckpointFile& f, const std::string& key, const Named& n) {
@@ -329,10 +329,9 @@ std::string file_name(int step) {
 
 // ---------------------------------------------------------------------------------------------
 
-CheckpointFile checkpoint_of(const Model& model, const RunMemory& run) {
+CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory& run) {
   CheckpointFile f;
   const Mesh& mesh = model.mesh();
-  const State& s = run.committed;
   f.put("hencky", std::string(HENCKY_VERSION));
   f.put("title", model.spec().title);
   f.put("case", model.spec().file.string());
@@ -420,7 +419,7 @@ CheckpointFile checkpoint_of(const Model& model, const RunMemory& run) {
   return f;
 }
 
-RunMemory restore_run(const Model& model, const CheckpointFile& f) {
+Restart restore_run(const Model& model, const CheckpointFile& f) {
   const Mesh& mesh = model.mesh();
   if (f.integer("mesh.nodes") != mesh.n_nodes() || f.integer("mesh.cells") != mesh.cells.size() ||
       f.integer("mesh.fingerprint") != mesh_fingerprint(mesh))
@@ -440,8 +439,9 @@ RunMemory restore_run(const Model& model, const CheckpointFile& f) {
             heat ? "the checkpoint's run had a heat section, the case has none"
                  : "the case has a heat section, the checkpoint's run had none");
 
-  RunMemory run;
-  State& s = run.committed;
+  Restart restart;
+  RunMemory& run = restart.run;
+  State& s = restart.committed;
   const long long n_dofs = model.dofs().n_dofs(), n_nodes = mesh.n_nodes();
   s.time = f.scalar("time");
   const auto& counts = f.i64("counts", 3);
@@ -545,7 +545,7 @@ RunMemory restore_run(const Model& model, const CheckpointFile& f) {
     h.gmres_iterations = static_cast<int>(hc[2]);
     run.heat = std::move(h);
   }
-  return run;
+  return restart;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -585,11 +585,15 @@ std::vector<CheckpointEntry> list_checkpoints(const fs::path& dir, const SourceL
 }
 
 CheckpointFile read_checkpoint(const fs::path& file) {
+  const SourceLocation where{file.string(), 0, 0, ""};
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot read the checkpoint");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return CheckpointFile::parse(ss.str(), file.string());
+  if (ec || !in) throw InputError(where, "cannot read the checkpoint");
+  std::string bytes(size, '\0');
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size)))
+    throw InputError(where, "cannot read the checkpoint");
+  return CheckpointFile::parse(bytes, file.string());
 }
 
 CheckpointWriter::CheckpointWriter(const Model& model, const fs::path& dir, Log& log,
@@ -605,14 +609,14 @@ bool CheckpointWriter::due(const StepReport& report) const {
   return every > 0 && report.step % every == 0;
 }
 
-void CheckpointWriter::write(const RunMemory& run) {
+void CheckpointWriter::write(const State& committed, const RunMemory& run) {
   if (model_.spec().output.checkpoint_every() == 0) return;
-  const CheckpointFile f = checkpoint_of(model_, run);  // collective
+  const CheckpointFile f = checkpoint_of(model_, committed, run);  // collective
   if (!par::root()) return;
   const std::string name = file_name(run.steps);
   write_durably(dir_ / name, f.serialize());
   std::erase_if(entries_, [&](const CheckpointEntry& e) { return e.step >= run.steps; });
-  entries_.push_back({run.steps, run.committed.time, dir_ / name});
+  entries_.push_back({run.steps, committed.time, dir_ / name});
   ++written_;
   // The newest output.checkpoint_keep: the index first, then the files it no longer lists.
   const int keep = model_.spec().output.checkpoint_keep;
@@ -626,7 +630,7 @@ void CheckpointWriter::write(const RunMemory& run) {
     std::error_code ec;
     fs::remove(e.file, ec);
   }
-  log_.detail("checkpoint {} (t = {:g})", name, run.committed.time);
+  log_.detail("checkpoint {} (t = {:g})", name, committed.time);
 }
 
 void CheckpointWriter::write_index() const {

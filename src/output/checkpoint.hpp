@@ -1,7 +1,7 @@
 #pragma once
 // Checkpoints and restart (docs/outputs.md, "Checkpoints"; docs/cli.md, `--restart`).
 //
-// A checkpoint holds everything a run continues from (RunMemory, solve/analysis.hpp): the
+// A checkpoint holds everything a run continues from (Restart, solve/analysis.hpp): the
 // displacements, every integration point's state, the contact states, the equilibrium
 // iteration's and the heat analysis's memory, the pending step targets and the counts, in the
 // container of checkpoint_file.hpp. Integration-point data is stored in the order of the whole
@@ -25,12 +25,12 @@ namespace hencky {
 
 /// The file's record of `run`; point data gathered from every rank (collective; the result is
 /// complete on root only).
-CheckpointFile checkpoint_of(const Model& model, const RunMemory& run);
+CheckpointFile checkpoint_of(const Model& model, const State& committed, const RunMemory& run);
 
 /// The run a checkpoint continues: InputError naming what differs when the model's mesh,
 /// regions, materials, contacts or heat section are not those the checkpoint was written
 /// with. `f` must be read whole on every rank; each takes its own points.
-RunMemory restore_run(const Model& model, const CheckpointFile& f);
+Restart restore_run(const Model& model, const CheckpointFile& f);
 
 /// One checkpoint of an output directory (its checkpoints/index.csv).
 struct CheckpointEntry {
@@ -55,7 +55,7 @@ class CheckpointWriter final : public CheckpointSink {
   CheckpointWriter(const Model& model, const std::filesystem::path& dir, Log& log,
                    std::vector<CheckpointEntry> earlier = {});
   bool due(const StepReport& report) const override;
-  void write(const RunMemory& run) override;
+  void write(const State& committed, const RunMemory& run) override;
   int written() const { return written_; }
 
  private:

@@ -103,40 +103,52 @@ void CheckpointFile::put(const std::string& name, std::string text) {
   records_[name] = std::move(r);
 }
 
+std::size_t CheckpointFile::Record::count() const {
+  switch (type) {
+    case Type::f64:
+      return f64.size();
+    case Type::i64:
+      return i64.size();
+    case Type::u8:
+      return u8.size();
+    case Type::text:
+      return text.size();
+  }
+  return 0;
+}
+
 const CheckpointFile::Record& CheckpointFile::get(const std::string& name, Type type,
-                                                  long long expected, std::size_t size) const {
+                                                  long long expected) const {
   const auto it = records_.find(name);
   const SourceLocation where{label_, 0, 0, ""};
   if (it == records_.end())
     throw InputError(where, fmt::format("the checkpoint has no record '{}' (not written by this "
                                         "version of hencky, or damaged)",
                                         name));
-  if (it->second.type != type)
+  const Record& r = it->second;
+  if (r.type != type)
     throw InputError(where, fmt::format("checkpoint record '{}' holds {} values, expected {}", name,
-                                        type_name(it->second.type), type_name(type)));
-  if (expected >= 0 && size != static_cast<std::size_t>(expected))
+                                        type_name(r.type), type_name(type)));
+  if (expected >= 0 && r.count() != static_cast<std::size_t>(expected))
     throw InputError(where, fmt::format("checkpoint record '{}' has {} values, expected {} (a "
                                         "checkpoint of another model?)",
-                                        name, size, expected));
-  return it->second;
+                                        name, r.count(), expected));
+  return r;
 }
 
 const std::vector<double>& CheckpointFile::f64(const std::string& name, long long expected) const {
-  const auto it = records_.find(name);
-  return get(name, Type::f64, expected, it == records_.end() ? 0 : it->second.f64.size()).f64;
+  return get(name, Type::f64, expected).f64;
 }
 const std::vector<std::int64_t>& CheckpointFile::i64(const std::string& name,
                                                      long long expected) const {
-  const auto it = records_.find(name);
-  return get(name, Type::i64, expected, it == records_.end() ? 0 : it->second.i64.size()).i64;
+  return get(name, Type::i64, expected).i64;
 }
 const std::vector<std::uint8_t>& CheckpointFile::u8(const std::string& name,
                                                     long long expected) const {
-  const auto it = records_.find(name);
-  return get(name, Type::u8, expected, it == records_.end() ? 0 : it->second.u8.size()).u8;
+  return get(name, Type::u8, expected).u8;
 }
 const std::string& CheckpointFile::text(const std::string& name) const {
-  return get(name, Type::text, -1, 0).text;
+  return get(name, Type::text, -1).text;
 }
 
 std::string CheckpointFile::serialize() const {

@@ -39,6 +39,7 @@ class CheckpointFile {
     std::vector<std::int64_t> i64;
     std::vector<std::uint8_t> u8;
     std::string text;
+    std::size_t count() const;  ///< values of its type
   };
 
   void put(const std::string& name, std::span<const double> v);
@@ -67,7 +68,7 @@ class CheckpointFile {
   const std::string& label() const { return label_; }
 
  private:
-  const Record& get(const std::string& name, Type type, long long expected, std::size_t size) const;
+  const Record& get(const std::string& name, Type type, long long expected) const;
   std::map<std::string, Record> records_;
   std::string label_;
 };

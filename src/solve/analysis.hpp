@@ -24,17 +24,22 @@ struct AnalysisResult {
   std::string failure;  ///< why the analysis stopped, when it did
 };
 
-/// Everything a run continues from (a checkpoint, output/checkpoint.hpp): the committed state,
+/// What a run continues from besides its committed state (a checkpoint, output/checkpoint.hpp):
 /// the memories of the equilibrium iteration and of the heat analysis, the step targets still
 /// pending (cut-backs included), and the counts so far.
 struct RunMemory {
-  State committed;
   EquilibriumMemory equilibrium;
   std::optional<HeatMemory> heat;
   /// The targets queued after the last converged step, in order: cut-back targets and the case
   /// time they lead to (empty when the next target is simply the case's next time).
   std::vector<StepTarget> pending;
   int steps = 0, iterations = 0, factorizations = 0;
+};
+
+/// A checkpoint read back (restore_run): the committed state and the run's memory.
+struct Restart {
+  State committed;
+  RunMemory run;
 };
 
 /// Where run_analysis writes checkpoints (output/checkpoint.hpp implements it).
@@ -44,11 +49,11 @@ class CheckpointSink {
   /// A checkpoint is due after this converged step (the last one's is written anyway).
   virtual bool due(const StepReport& report) const = 0;
   /// Writes one. Collective (point data is gathered); root writes.
-  virtual void write(const RunMemory& run) = 0;
+  virtual void write(const State& committed, const RunMemory& run) = 0;
 };
 
 struct RunOptions {
-  const RunMemory* resume = nullptr;  ///< continue from it (a restart), else start at t = 0
+  const Restart* resume = nullptr;  ///< continue from it (a restart), else start at t = 0
   CheckpointSink* checkpoints = nullptr;
 };
 

@@ -134,9 +134,9 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
   int factorizations_before = 0;   // the factorizations of this process before the step
   int earlier_factorizations = 0;  // of the run a restart continues
   State committed;
-  const RunMemory* resume = options.resume;
+  const RunMemory* resume = options.resume ? &options.resume->run : nullptr;
   if (resume) {
-    committed = resume->committed;
+    committed = options.resume->committed;
     if (heat && resume->heat) heat->resume(*resume->heat);
     eq.resume(committed, resume->equilibrium);
     // The restart's factorization of the matrix the run had: in the summary's count, not in
@@ -159,23 +159,15 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
   bool unwritten = false;
   EquilibriumMemory unwritten_eq;
   std::vector<StepTarget> unwritten_pending;
-  auto write_checkpoint = [&](const EquilibriumMemory& mem,
-                              const std::vector<StepTarget>& pending) {
+  auto write_checkpoint = [&](EquilibriumMemory mem, std::vector<StepTarget> pending) {
     RunMemory run;
-    run.equilibrium = mem;
+    run.equilibrium = std::move(mem);
     if (heat) run.heat = heat->memory();
-    run.pending = pending;
+    run.pending = std::move(pending);
     run.steps = result.steps;
     run.iterations = result.iterations;
     run.factorizations = factorizations();
-    std::swap(run.committed, committed);  // lent, not copied
-    try {
-      sink->write(run);
-    } catch (...) {
-      std::swap(run.committed, committed);
-      throw;
-    }
-    std::swap(run.committed, committed);
+    sink->write(committed, run);
   };
   auto stop = [&](AnalysisStatus status, std::string why) {
     result.status = status;
@@ -184,7 +176,7 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     log.info("{}", result.failure);
     if (sink && unwritten) {
       try {
-        write_checkpoint(unwritten_eq, unwritten_pending);
+        write_checkpoint(std::move(unwritten_eq), std::move(unwritten_pending));
       } catch (const OutputError& e) {  // what was written before stays
         log.warn(std::string("the checkpoint of the last converged step was not written: ") +
                  e.what());
