@@ -1,11 +1,13 @@
 // Sparse Cholesky through SuiteSparse CHOLMOD (64-bit index interface, cholmod_l_*).
-// CHOLMOD picks supernodal or simplicial from the factor's density and tries AMD and METIS
-// orderings in its analysis, keeping the one with less fill; the symbolic factor is computed
-// once and every later factorize() reuses it (the CHOLMOD user guide, "cholmod_factorize").
+// CHOLMOD picks supernodal or simplicial from the factor's density; the fill-reducing ordering
+// is ours (nested_dissection, linalg/sparse.hpp: METIS on the node graph), given to
+// cholmod_l_analyze_p. The symbolic factor is computed once and every later factorize() reuses
+// it (the CHOLMOD user guide, "cholmod_analyze_p", "cholmod_factorize").
 #include <cholmod.h>
+#include <fmt/format.h>
 
 #include <cmath>
-#include <fmt/format.h>
+#include <vector>
 
 #include "core/error.hpp"
 #include "linalg/sparse_solver.hpp"
@@ -31,7 +33,20 @@ class CholmodSolver final : public SparseSolver {
     if (factor_) cholmod_l_free_factor(&factor_, &common_);
     cholmod_sparse a = view(nullptr);
     a.xtype = CHOLMOD_PATTERN;
-    factor_ = cholmod_l_analyze(&a, &common_);
+    // The nodes' graph ordered by METIS, each node's dofs kept together: one ordering instead
+    // of CHOLMOD's AMD-then-METIS on the dof graph (9× its edges), supernodes aligned with
+    // nodes. Measured at ~100k unknowns (docs/performance.md): the analysis from 1.3 s to 0.7 s
+    // and the factorization phase 10-15 % shorter, for 2-9 % more flops. CHOLMOD's own
+    // orderings remain the fallback when METIS fails.
+    std::vector<std::int64_t> perm = nested_dissection(p);
+    if (!perm.empty()) {
+      common_.nmethods = 1;
+      common_.method[0].ordering = CHOLMOD_GIVEN;
+      factor_ = cholmod_l_analyze_p(&a, perm.data(), nullptr, 0, &common_);
+    } else {
+      common_.nmethods = 0;  // CHOLMOD's default: AMD, then METIS when AMD's fill is high
+      factor_ = cholmod_l_analyze(&a, &common_);
+    }
     if (!factor_ || common_.status < CHOLMOD_OK)
       throw SolveError(fmt::format("CHOLMOD analysis failed (status {})", common_.status));
     stats_.factor_flops = common_.fl;
@@ -108,6 +123,8 @@ class CholmodSolver final : public SparseSolver {
       case CHOLMOD_METIS: return "METIS";
       case CHOLMOD_NESDIS: return "nested dissection";
       case CHOLMOD_COLAMD: return "COLAMD";
+      case CHOLMOD_GIVEN:
+        return "node-graph METIS";
       default: return "default";
     }
   }

@@ -1,8 +1,11 @@
 #include "linalg/sparse.hpp"
 
+#include <metis.h>
+#include <omp.h>
+
 #include <algorithm>
 #include <cassert>
-#include <omp.h>
+#include <numeric>
 
 namespace hencky {
 
@@ -63,6 +66,9 @@ SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& 
   for (int v = 0; v < n_nodes; ++v)
     for (int d = 0; d < k; ++d)
       if (int j = dofs.eq[k * v + d]; j >= 0) dof_node[j] = v;
+  for (std::int64_t j = 0; j < p.n; ++j)
+    if (j == 0 || dof_node[j] != dof_node[j - 1]) p.group_start.push_back(j);
+  p.group_start.push_back(p.n);
   std::vector<std::int64_t> count(p.n, 0);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t j = 0; j < p.n; ++j) {
@@ -84,6 +90,55 @@ SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& 
     std::sort(p.row.begin() + p.col_ptr[j], p.row.begin() + pos);
   }
   return p;
+}
+
+std::vector<std::int64_t> nested_dissection(const SymmetricPattern& p) {
+  std::vector<std::int64_t> start = p.group_start;
+  if (start.empty()) {
+    start.resize(p.n + 1);
+    std::iota(start.begin(), start.end(), std::int64_t{0});
+  }
+  const auto n_groups = static_cast<idx_t>(start.size() - 1);
+  std::vector<idx_t> group(p.n);
+  for (idx_t g = 0; g < n_groups; ++g)
+    std::fill(group.begin() + start[g], group.begin() + start[g + 1], g);
+  // The group graph from the upper triangle: an edge g–h (h < g) for every entry in a column
+  // of g whose row is in h, stored in both directions, each once.
+  std::vector<idx_t> mark(n_groups, -1), xadj(n_groups + 1, 0);
+  auto for_each_lower = [&](idx_t g, auto&& f) {
+    for (std::int64_t j = start[g]; j < start[g + 1]; ++j)
+      for (std::int64_t k = p.col_ptr[j]; k < p.col_ptr[j + 1]; ++k)
+        if (const idx_t h = group[p.row[k]]; h != g && mark[h] != g) {
+          mark[h] = g;
+          f(h);
+        }
+  };
+  for (idx_t g = 0; g < n_groups; ++g)
+    for_each_lower(g, [&](idx_t h) { ++xadj[g + 1], ++xadj[h + 1]; });
+  for (idx_t g = 0; g < n_groups; ++g) xadj[g + 1] += xadj[g];
+  std::vector<idx_t> adjncy(xadj.back()), fill(xadj.begin(), xadj.end() - 1);
+  std::fill(mark.begin(), mark.end(), -1);
+  for (idx_t g = 0; g < n_groups; ++g)
+    for_each_lower(g, [&](idx_t h) { adjncy[fill[g]++] = h, adjncy[fill[h]++] = g; });
+  // Weighted by their dofs, so that the separators balance the dofs (a node partly held has
+  // fewer).
+  std::vector<idx_t> weight(n_groups), perm(n_groups), iperm(n_groups);
+  for (idx_t g = 0; g < n_groups; ++g) weight[g] = static_cast<idx_t>(start[g + 1] - start[g]);
+  if (n_groups > 1) {
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    idx_t nv = n_groups;
+    if (METIS_NodeND(&nv, xadj.data(), adjncy.data(), weight.data(), options, perm.data(),
+                     iperm.data()) != METIS_OK)
+      return {};
+  } else {
+    std::iota(perm.begin(), perm.end(), idx_t{0});
+  }
+  std::vector<std::int64_t> out;
+  out.reserve(p.n);
+  for (idx_t g : perm)
+    for (std::int64_t j = start[g]; j < start[g + 1]; ++j) out.push_back(j);
+  return out;
 }
 
 std::vector<std::vector<int>> color_cells(const CellSet& cells, int n_nodes) {

@@ -27,10 +27,18 @@ struct SymmetricPattern {
   std::int64_t n = 0;
   std::vector<std::int64_t> col_ptr;  ///< n + 1 entries
   std::vector<std::int64_t> row;      ///< row indices (<= column), sorted within a column
+  /// The dofs in groups of consecutive indices that share their couplings (a node's free
+  /// dofs): group g is [group_start[g], group_start[g+1]). Empty: every dof its own group.
+  std::vector<std::int64_t> group_start;
   std::int64_t nnz() const { return col_ptr.empty() ? 0 : col_ptr.back(); }
   /// Position of entry (i, j) with i <= j, or -1 when not in the pattern.
   std::int64_t find(std::int64_t i, std::int64_t j) const;
 };
+
+/// A fill-reducing ordering of the pattern's matrix: METIS nested dissection of the graph of
+/// its groups (the nodes: a ninth of the dof graph's edges for 3 dofs per node), each group's
+/// dofs then kept together in their order. perm[k] is the dof eliminated k-th.
+std::vector<std::int64_t> nested_dissection(const SymmetricPattern& pattern);
 
 /// Cells around each node (CSR): the cells of node n are idx[ptr[n] .. ptr[n+1]).
 void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
