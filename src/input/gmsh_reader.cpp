@@ -1,6 +1,5 @@
 #include "input/gmsh_reader.hpp"
 
-#include <gmsh.h>
 #include <omp.h>
 
 #include <cctype>
@@ -8,30 +7,32 @@
 #include <mutex>
 
 #include "core/error.hpp"
+#include "input/gmsh_library.hpp"
 #include "input/msh_data.hpp"
 #include "input/msh_reader.hpp"
 
 namespace hencky {
 namespace {
 
+namespace gmsh = gmsh_library;
+
 /// The Gmsh library is a global singleton: one reader at a time, initialized once per read.
 std::mutex gmsh_mutex;
 
 struct GmshSession {
   explicit GmshSession(std::vector<std::string>* log) : log_(log), threads_(omp_get_max_threads()) {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 3);
-    gmsh::logger::start();
+    gmsh::initialize();
+    gmsh::set_number("General.Terminal", 0);
+    gmsh::set_number("General.Verbosity", 3);
+    gmsh::logger_start();
   }
   ~GmshSession() {
     try {
       if (log_) {
-        std::vector<std::string> lines;
-        gmsh::logger::get(lines);
+        const std::vector<std::string> lines = gmsh::logger_get();
         log_->insert(log_->end(), lines.begin(), lines.end());
       }
-      gmsh::logger::stop();
+      gmsh::logger_stop();
       gmsh::finalize();
     } catch (...) {
     }
@@ -42,12 +43,7 @@ struct GmshSession {
 };
 
 std::string last_gmsh_error() {
-  std::string err;
-  try {
-    gmsh::logger::getLastError(err);
-  } catch (...) {
-  }
-  return err;
+  return gmsh::last_error();
 }
 
 /// Runs Gmsh's meshing or order conversion `f`. Gmsh reports an error by throwing a
@@ -59,15 +55,15 @@ template <class F>
 void mesh_without_throwing(F&& f, const std::function<InputError(const std::string&)>& fail,
                            const std::string& what) {
   const std::string before = last_gmsh_error();
-  gmsh::option::setNumber("General.AbortOnError", 0);
+  gmsh::set_number("General.AbortOnError", 0);
   try {
     f();
   } catch (...) {
-    gmsh::option::setNumber("General.AbortOnError", 2);
+    gmsh::set_number("General.AbortOnError", 2);
     const std::string err = last_gmsh_error();
     throw fail(what + (err.empty() ? std::string("Gmsh failed") : err));
   }
-  gmsh::option::setNumber("General.AbortOnError", 2);
+  gmsh::set_number("General.AbortOnError", 2);
   const std::string after = last_gmsh_error();
   if (after != before && !after.empty()) throw fail(what + after);
 }
@@ -75,27 +71,17 @@ void mesh_without_throwing(F&& f, const std::function<InputError(const std::stri
 /// The model the Gmsh library holds, in the form to_mesh takes.
 MshData model_data() {
   MshData d;
-  std::vector<double> param;
-  gmsh::model::mesh::getNodes(d.node_tags, d.coords, param, -1, -1, false, false);
-  gmsh::vectorpair entities;
-  gmsh::model::getEntities(entities, -1);
+  gmsh::get_nodes(d.node_tags, d.coords);
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> tags, nodes;
-  for (auto [dim, tag] : entities) {
-    MshData::Entity e{dim, tag, {}};
-    gmsh::model::getPhysicalGroupsForEntity(dim, tag, e.physicals);
-    d.entities.push_back(std::move(e));
-    gmsh::model::mesh::getElements(types, tags, nodes, dim, tag);
+  for (auto [dim, tag] : gmsh::get_entities(-1)) {
+    d.entities.push_back(MshData::Entity{dim, tag, gmsh::physical_groups_for_entity(dim, tag)});
+    gmsh::get_elements(dim, tag, types, tags, nodes);
     for (std::size_t k = 0; k < types.size(); ++k)
       d.blocks.push_back({dim, tag, types[k], std::move(tags[k]), std::move(nodes[k])});
   }
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups, -1);
-  for (auto [dim, tag] : groups) {
-    std::string name;
-    gmsh::model::getPhysicalName(dim, tag, name);
-    d.physical_names[{dim, tag}] = name;
-  }
+  for (auto [dim, tag] : gmsh::physical_groups(-1))
+    d.physical_names[{dim, tag}] = gmsh::physical_name(dim, tag);
   return d;
 }
 
@@ -107,6 +93,12 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry,
   const std::function<InputError(const std::string&)> fail = [&](const std::string& msg) {
     return InputError(where, msg);
   };
+  try {
+    gmsh::load();
+  } catch (const std::runtime_error& e) {
+    throw fail(std::string(geometry ? "meshing a geometry" : "converting the element order") +
+               " needs the Gmsh library, and " + e.what());
+  }
   std::lock_guard lock(gmsh_mutex);
   GmshSession session(gmsh_log);
   try {
@@ -119,16 +111,15 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry,
   try {
     std::vector<int> types;
     std::vector<std::vector<std::size_t>> tags, nodes;
-    gmsh::model::mesh::getElements(types, tags, nodes, 3, -1);
+    gmsh::get_elements(3, -1, types, tags, nodes);
     if (types.empty()) {
       if (!geometry) throw fail("the mesh has no 3D elements (hencky needs a volume mesh)");
-      mesh_without_throwing([] { gmsh::model::mesh::generate(3); }, fail,
-                            "Gmsh cannot mesh this geometry: ");
+      mesh_without_throwing([] { gmsh::generate(3); }, fail, "Gmsh cannot mesh this geometry: ");
     }
     if (options.order == 1 || options.order == 2) {
       // Serendipity (20-node) hexahedra and 8-node quadrilaterals, as hencky supports those.
-      gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
-      mesh_without_throwing([&] { gmsh::model::mesh::setOrder(options.order); }, fail,
+      gmsh::set_number("Mesh.SecondOrderIncomplete", 1);
+      mesh_without_throwing([&] { gmsh::set_order(options.order); }, fail,
                             "Gmsh cannot convert the element order: ");
     }
     return model_data();
