@@ -29,7 +29,7 @@ const std::vector<std::string> accelerations = {"auto", "none", "anderson"};  //
 const std::vector<std::string> auto_none = {"auto", "none"};
 const std::vector<std::string> geometries = {"small", "updated"};
 const std::vector<std::string> correction_forms = {"previous", "current"};
-const std::vector<std::string> linear_solvers = {"direct", "iterative", "petsc"};
+const std::vector<std::string> linear_solvers = {"auto", "direct", "iterative", "petsc"};
 const std::vector<std::string> output_keys = {
     "dir", "every", "probes", "reactions", "heat_flows", "checkpoint", "checkpoint_keep"};
 const std::vector<std::string> probe_keys = {"name", "point"};
@@ -178,7 +178,8 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
     s.correction_current = r.choice(*x, correction_forms, "correction form") == "current";
   if (auto x = m.get("linear")) {
     const std::string l = r.choice(*x, linear_solvers, "linear solver");
-    s.linear = l == "direct"      ? SolverSpec::Linear::direct
+    s.linear = l == "auto"        ? SolverSpec::Linear::automatic
+               : l == "direct"    ? SolverSpec::Linear::direct
                : l == "iterative" ? SolverSpec::Linear::iterative
                                   : SolverSpec::Linear::petsc;
   }

@@ -21,7 +21,7 @@ class CgSolver final : public SparseSolver {
     cg_.setTolerance(tolerance_);
     stats_.description = "conjugate gradients, incomplete Cholesky preconditioner (Eigen)";
   }
-  void analyze(const SymmetricPattern& p) override {
+  void analyze(const SymmetricPattern& p, std::span<const std::int64_t> /*ordering*/) override {
     pattern_ = &p;
     ++stats_.n_analyses;
   }

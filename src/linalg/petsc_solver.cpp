@@ -45,6 +45,12 @@ struct PetscSolver::Impl {
   KSP ksp = nullptr;
   bool assembled_once = false;
   bool pending = false;  ///< values set since the matrix was last finished
+  /// One process: the cells' matrices go straight into the matrix's value array, colour by
+  /// colour in parallel (assemble_local), which needs its rows' columns (PETSc's CSR arrays,
+  /// MatGetRowIJ, valid while the pattern stays).
+  bool local = false;
+  const PetscInt* row_ptr = nullptr;
+  const PetscInt* col = nullptr;
 
   std::vector<std::string> option_names;  ///< the options this solver added: given, defaults
   std::size_t given_options = 0;          ///< how many of them were given
@@ -66,6 +72,53 @@ struct PetscSolver::Impl {
 
   PetscInt row(int node, int d) const {
     return (*dofs).eq[k * node + d] < 0 ? -1 : first_row[node] + d;
+  }
+
+  /// The rows of one process's matrix in CSR (columns sorted) from the cells around each node
+  /// (ptr, idx: node_cell_incidence). Rows are numbered k × node + d (first_row[n] = k n).
+  void local_pattern(const std::vector<int>& ptr, const std::vector<int>& idx,
+                     std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& col) const {
+    const int n_nodes = mesh->n_nodes();
+    std::vector<std::vector<int>> neighbours(n_nodes);
+#pragma omp parallel
+    {
+      std::vector<int> mark(n_nodes, -1);
+#pragma omp for schedule(dynamic, 256)
+      for (int v = 0; v < n_nodes; ++v) {
+        for (int c = ptr[v]; c < ptr[v + 1]; ++c)
+          for (int w : mesh->cells.nodes(idx[c]))
+            if (mark[w] != v) mark[w] = v, neighbours[v].push_back(w);
+        std::sort(neighbours[v].begin(), neighbours[v].end());
+      }
+    }
+    row_ptr.assign(static_cast<std::size_t>(k) * n_nodes + 1, 0);
+    for (int v = 0; v < n_nodes; ++v)
+      for (int d = 0; d < k; ++d) {
+        PetscInt count = 1;  // a prescribed dof: its diagonal
+        if (dofs->eq[k * v + d] >= 0) {
+          count = 0;
+          for (int w : neighbours[v])
+            for (int e = 0; e < k; ++e) count += dofs->eq[k * w + e] >= 0;
+        }
+        row_ptr[k * v + d + 1] = row_ptr[k * v + d] + count;
+      }
+    col.resize(row_ptr.back());
+    for (int v = 0; v < n_nodes; ++v)
+      for (int d = 0; d < k; ++d) {
+        PetscInt* c = col.data() + row_ptr[k * v + d];
+        if (dofs->eq[k * v + d] < 0) {
+          *c = k * v + d;
+          continue;
+        }
+        for (int w : neighbours[v])
+          for (int e = 0; e < k; ++e)
+            if (dofs->eq[k * w + e] >= 0) *c++ = k * w + e;
+      }
+  }
+
+  /// Position of entry (r, c) in the value array of one process's matrix.
+  PetscInt position(PetscInt r, PetscInt c) const {
+    return static_cast<PetscInt>(std::lower_bound(col + row_ptr[r], col + row_ptr[r + 1], c) - col);
   }
 };
 
@@ -111,26 +164,37 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   // Preallocation per block row: the nodes coupled to each owned node through its cells.
   std::vector<int> ptr, idx;
   node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
-  std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
-  std::vector<int> seen(n_nodes, -1);
-  for (std::size_t l = 0; l < s.owned.size(); ++l) {
-    const int n = s.owned[l];
-    PetscInt d = 0, o = 0;
-    for (int k = ptr[n]; k < ptr[n + 1]; ++k)
-      for (int m : mesh.cells.nodes(idx[k])) {
-        if (seen[m] == static_cast<int>(l)) continue;
-        seen[m] = static_cast<int>(l);
-        (partition_.node_owner[m] == me ? d : o) += 1;
-      }
-    d_nnz[l] = std::max<PetscInt>(d, 1);
-    o_nnz[l] = o;
-  }
   check_petsc(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
   check_petsc(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
   check_petsc(MatSetBlockSize(s.A, k), "MatSetBlockSize");
-  check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
-  check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
-              "matrix preallocation");
+  if (parts == 1) {
+    // The exact pattern: a free dof couples to the free dofs of its node's neighbours, a
+    // prescribed one to itself (its identity row); PETSc keeps it as given (columns sorted).
+    check_petsc(MatSetType(s.A, MATSEQAIJ), "MatSetType");
+    std::vector<PetscInt> row_ptr, col;
+    s.local_pattern(ptr, idx, row_ptr, col);
+    check_petsc(MatSeqAIJSetPreallocationCSR(s.A, row_ptr.data(), col.data(), nullptr),
+                "matrix preallocation");
+    s.local = true;
+  } else {
+    std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
+    std::vector<int> seen(n_nodes, -1);
+    for (std::size_t l = 0; l < s.owned.size(); ++l) {
+      const int n = s.owned[l];
+      PetscInt d = 0, o = 0;
+      for (int k = ptr[n]; k < ptr[n + 1]; ++k)
+        for (int m : mesh.cells.nodes(idx[k])) {
+          if (seen[m] == static_cast<int>(l)) continue;
+          seen[m] = static_cast<int>(l);
+          (partition_.node_owner[m] == me ? d : o) += 1;
+        }
+      d_nnz[l] = std::max<PetscInt>(d, 1);
+      o_nnz[l] = o;
+    }
+    check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
+    check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
+                "matrix preallocation");
+  }
   check_petsc(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   check_petsc(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
   check_petsc(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
@@ -219,6 +283,10 @@ void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
   // A matrix assembled and then not used (a Newton iteration that converged on it) is finished
   // first: PETSc zeroes finished matrices only.
   if (s.pending) end_matrix();
+  if (s.local) {
+    assemble_local(cell_matrix);
+    return;
+  }
   if (s.assembled_once) check_petsc(MatZeroEntries(s.A), "MatZeroEntries");
   s.pending = true;
   for (std::size_t l = 0; l < s.owned.size(); ++l)
@@ -249,6 +317,41 @@ void PetscSolver::assemble_cells(const CellMatrix& cell_matrix) {
       },
       own_cells());
   if (!failure.empty()) throw std::runtime_error(failure);
+}
+
+void PetscSolver::assemble_local(const CellMatrix& cell_matrix) {
+  Impl& s = *impl_;
+  PetscInt n = 0;
+  PetscBool done = PETSC_FALSE;
+  check_petsc(MatGetRowIJ(s.A, 0, PETSC_FALSE, PETSC_FALSE, &n, &s.row_ptr, &s.col, &done),
+              "MatGetRowIJ");
+  if (!done) throw std::runtime_error("PETSc did not give the matrix's rows (MatGetRowIJ)");
+  PetscScalar* a = nullptr;
+  check_petsc(MatSeqAIJGetArray(s.A, &a), "MatSeqAIJGetArray");
+  std::fill(a, a + s.row_ptr[n], 0.0);
+  const int n_nodes = s.mesh->n_nodes();
+  for (int v = 0; v < n_nodes; ++v)
+    for (int d = 0; d < s.k; ++d)
+      if (s.dofs->eq[s.k * v + d] < 0) a[s.row_ptr[s.k * v + d]] = 1.0;
+  // Cells of one colour share no node, hence no row: the threads write disjoint entries.
+  const CellSet& cells = s.mesh->cells;
+  assembler_.matrices(cell_matrix, [&](int e, const double* ke) {
+    const auto nodes = cells.nodes(e);
+    PetscInt rows[3 * max_cell_nodes];
+    const int nd = s.k * static_cast<int>(nodes.size());
+    for (std::size_t n = 0; n < nodes.size(); ++n)
+      for (int d = 0; d < s.k; ++d) rows[s.k * n + d] = s.row(nodes[n], d);
+    for (int i = 0; i < nd; ++i) {
+      if (rows[i] < 0) continue;
+      for (int j = 0; j < nd; ++j)
+        if (rows[j] >= 0) a[s.position(rows[i], rows[j])] += ke[i * nd + j];
+    }
+  });
+  // Restoring the array marks the matrix as changed: the preconditioner is set up again.
+  check_petsc(MatSeqAIJRestoreArray(s.A, &a), "MatSeqAIJRestoreArray");
+  check_petsc(MatRestoreRowIJ(s.A, 0, PETSC_FALSE, PETSC_FALSE, &n, &s.row_ptr, &s.col, &done),
+              "MatRestoreRowIJ");
+  s.assembled_once = true;
 }
 
 void PetscSolver::add_block(int a, int b, const Mat3& block) {  // displacement only (k == 3)
@@ -307,6 +410,8 @@ void PetscSolver::factorize() {
     }
   }
   ++stats_.n_factorizations;
+  MatInfo info;
+  if (MatGetInfo(s.A, MAT_GLOBAL_SUM, &info) == 0) stats_.matrix_nnz = info.nz_used;
 }
 
 void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {

@@ -63,6 +63,8 @@ class PetscSolver final : public LinearSystem {
 
  private:
   void end_matrix();
+  /// assemble_cells in one process: straight into the matrix's values, no PETSc call per cell.
+  void assemble_local(const CellMatrix& cell_matrix);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

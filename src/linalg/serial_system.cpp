@@ -28,15 +28,24 @@ void SerialSystem::add_block(int a, int b, const Mat3& block) {
 
 void SerialSystem::factorize() {
   if (!analyzed_) {
-    solver_->analyze(assembler_.pattern());
+    // The nodes' order, as the dofs' (each node's free dofs in their order).
+    std::vector<std::int64_t> perm;
+    const int k = dofs_.per_node;
+    for (std::int64_t v : node_order_)
+      for (int d = 0; d < k; ++d)
+        if (const int j = dofs_.eq[k * v + d]; j >= 0) perm.push_back(j);
+    solver_->analyze(assembler_.pattern(), perm);
+    node_order_ = {};
     analyzed_ = true;
   }
   solver_->factorize(values_);
 }
 
 std::unique_ptr<LinearSystem> make_serial_system(const Assembler& assembler, const DofMap& dofs,
-                                                 LinearSolverKind kind, double tolerance) {
-  return std::make_unique<SerialSystem>(assembler, dofs, make_sparse_solver(kind, tolerance));
+                                                 LinearSolverKind kind, double tolerance,
+                                                 std::vector<std::int64_t> node_order) {
+  return std::make_unique<SerialSystem>(assembler, dofs, make_sparse_solver(kind, tolerance),
+                                        std::move(node_order));
 }
 
 }  // namespace hencky

@@ -10,8 +10,14 @@ namespace hencky {
 
 class SerialSystem final : public LinearSystem {
  public:
-  SerialSystem(const Assembler& assembler, const DofMap& dofs, std::unique_ptr<SparseSolver> solver)
-      : assembler_(assembler), dofs_(dofs), solver_(std::move(solver)) {}
+  /// `node_order`: a fill-reducing order of the nodes for the factorization (every node;
+  /// empty: the solver's own), e.g. FactorEstimate::node_order.
+  SerialSystem(const Assembler& assembler, const DofMap& dofs, std::unique_ptr<SparseSolver> solver,
+               std::vector<std::int64_t> node_order = {})
+      : assembler_(assembler),
+        dofs_(dofs),
+        solver_(std::move(solver)),
+        node_order_(std::move(node_order)) {}
 
   void assemble_cells(const CellMatrix& cell_matrix) override;
   void keep_cells() override { kept_ = values_; }
@@ -28,12 +34,14 @@ class SerialSystem final : public LinearSystem {
   const Assembler& assembler_;
   const DofMap& dofs_;
   std::unique_ptr<SparseSolver> solver_;
+  std::vector<std::int64_t> node_order_;
   bool analyzed_ = false;
   std::vector<double> values_, kept_;
 };
 
 /// The serial system of a model's assembler and dofs with the given back end.
 std::unique_ptr<LinearSystem> make_serial_system(const Assembler& assembler, const DofMap& dofs,
-                                                 LinearSolverKind kind, double tolerance = 1e-10);
+                                                 LinearSolverKind kind, double tolerance = 1e-10,
+                                                 std::vector<std::int64_t> node_order = {});
 
 }  // namespace hencky

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -9,6 +10,7 @@
 #include "linalg/serial_system.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/partition.hpp"
+#include "solve/linear_choice.hpp"
 
 namespace hencky {
 
@@ -60,17 +62,47 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
                                           const std::string& petsc_options) {
   const SolverSpec& s = spec_model.spec().solver;
   const int ranks = par::size();
-  if (s.linear != SolverSpec::Linear::petsc && ranks == 1)
+  SolverSpec::Linear linear = s.linear;
+  std::vector<std::int64_t> node_order;  // of the factor estimate, for the factorization
+  if (linear == SolverSpec::Linear::automatic) {
+    LinearChoiceInputs in;
+    in.unknowns = dofs.n_free;
+    in.per_node = dofs.per_node;
+    in.nonlinear =
+        dofs.per_node == 3 && (spec_model.has_plasticity() || !spec_model.contacts().empty());
+    in.ranks = ranks;
+    in.available_bytes = available_memory_bytes();
+    const LinearChoiceRule rule = LinearChoiceRule::from_environment();
+    std::string estimate;
+    if (wants_factor_estimate(in, rule)) {
+      const auto t0 = std::chrono::steady_clock::now();
+      FactorEstimate f =
+          estimate_factor(spec_model.mesh().cells, spec_model.mesh().n_nodes(), dofs.per_node);
+      in.factor_flops = f.flops;
+      in.factor_entries = f.entries;
+      node_order = std::move(f.node_order);
+      estimate =
+          fmt::format(" (factor predicted by a symbolic analysis of the node graph in {:.2f} s)",
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    const LinearChoice choice = choose_linear(in, rule);
+    linear = choice.linear;
+    log.info("linear solver{} (solver.linear: auto): {}; {}{}",
+             model ? "" : " of the heat analysis",
+             linear == SolverSpec::Linear::direct ? "CHOLMOD sparse Cholesky" : "PETSc CG + GAMG",
+             choice.reason, estimate);
+  }
+  if (linear != SolverSpec::Linear::petsc && ranks == 1)
     return make_serial_system(assembler, dofs,
-                              s.linear == SolverSpec::Linear::iterative
-                                  ? LinearSolverKind::iterative
-                                  : LinearSolverKind::direct);
+                              linear == SolverSpec::Linear::iterative ? LinearSolverKind::iterative
+                                                                      : LinearSolverKind::direct,
+                              1e-10, std::move(node_order));
   const PetscPreset preset =
-      s.linear == SolverSpec::Linear::direct ? PetscPreset::mumps : PetscPreset::gamg;
-  if (s.linear != SolverSpec::Linear::petsc && model)
+      linear == SolverSpec::Linear::direct ? PetscPreset::mumps : PetscPreset::gamg;
+  if (linear != SolverSpec::Linear::petsc && model)
     log.info("{} MPI ranks: the PETSc back end with {} replaces solver.linear: {}", ranks,
              preset == PetscPreset::mumps ? "MUMPS (direct)" : "CG + GAMG (iterative)",
-             s.linear == SolverSpec::Linear::direct ? "direct" : "iterative");
+             linear == SolverSpec::Linear::direct ? "direct" : "iterative");
   Partition part = partition_mesh(spec_model.mesh(), ranks, par::rank());
   if (ranks > 1 && model)
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,

@@ -266,7 +266,7 @@ inline const char* scheme_name(SchemeKind kind) {
 enum class CurveForm { stress, strain };
 
 struct SolverSpec {
-  enum class Linear { direct, iterative, petsc };
+  enum class Linear { automatic, direct, iterative, petsc };
   SchemeKind scheme = SchemeKind::newton;
   CurveForm curve_form = CurveForm::stress;  ///< variable-stiffness only
   StepTimes times;                    ///< end times of the steps
@@ -308,8 +308,9 @@ struct SolverSpec {
   /// the configuration at t, (2.31). The same under `geometry: small`.
   bool correction_current = false;
   /// direct and iterative are the serial back ends; petsc (and every run on more than one MPI
-  /// rank) the PETSc one.
-  Linear linear = Linear::direct;
+  /// rank) the PETSc one; automatic (`auto`, the default) chooses between direct and petsc
+  /// (solve/linear_choice.hpp).
+  Linear linear = Linear::automatic;
   /// PETSc options of the case ("-ksp_type cg -pc_type hypre"), added before those of the
   /// command line (which win).
   std::string petsc_options;

@@ -258,7 +258,7 @@ TEST_F(CaseTest, Defaults) {
   EXPECT_DOUBLE_EQ(c.solver.mechanism_limit, 0.05);
   EXPECT_TRUE(c.solver.extrapolate);
   EXPECT_EQ(c.solver.acceleration, SolverSpec::Acceleration::automatic);
-  EXPECT_EQ(c.solver.linear, SolverSpec::Linear::direct);
+  EXPECT_EQ(c.solver.linear, SolverSpec::Linear::automatic);
   EXPECT_EQ(c.output.dir, dir_ / "case.out");
   EXPECT_EQ(c.output.every, 1);
   EXPECT_TRUE(c.output.probes.empty());

@@ -90,5 +90,19 @@ TEST(NestedDissection, CholmodWithItSolvesAsADenseFactorization) {
       << solver->stats().description;
 }
 
+TEST(NestedDissection, TheNodeGraphPredictsTheDofFactor) {
+  // estimate_factor (the node graph's factor scaled to 3 dofs a node) against the analysis of
+  // the dofs themselves, nothing prescribed.
+  const int n = 10, n_nodes = (n + 1) * (n + 1) * (n + 1);
+  const CellSet cells = cube_cells(n);
+  const DofMap dofs = DofMap::from_constraints(n_nodes, std::vector<bool>(3 * n_nodes, false));
+  const SymmetricPattern p = build_pattern(cells, n_nodes, dofs);
+  auto solver = make_sparse_solver(LinearSolverKind::direct);
+  solver->analyze(p);
+  const FactorEstimate e = estimate_factor(cells, n_nodes, 3);
+  EXPECT_NEAR(e.entries / solver->stats().factor_nnz, 1.0, 0.05);
+  EXPECT_NEAR(e.flops / solver->stats().factor_flops, 1.0, 0.10);
+}
+
 }  // namespace
 }  // namespace hencky

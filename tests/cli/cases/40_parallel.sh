@@ -19,21 +19,24 @@ same() {
   if out="$("$ex_py" "$cmp_py" "$2" "$3" "$4" --fields "$5" 2>&1)"; then ok "$1"
   else bad "$1" "$out"; fi
 }
-# with_petsc CASE: CASE with solver.linear: petsc added after its 'solver:' line.
-with_petsc() {
-  sed -E 's/^solver:.*/&\n  linear: petsc/' "$1" >"${1%.yaml}-petsc.yaml"
-  grep -q "linear: petsc" "${1%.yaml}-petsc.yaml" || bad "$(basename "$1"): no 'solver:' line"
+# with_linear LINEAR CASE: CASE with solver.linear: LINEAR added after its 'solver:' line, as
+# CASE-LINEAR.yaml. (The default, auto, is CG + GAMG under mpirun: MUMPS needs `direct`.)
+with_linear() {
+  sed -E "s/^solver:.*/&\n  linear: $1/" "$2" >"${2%.yaml}-$1.yaml"
+  grep -q "linear: $1" "${2%.yaml}-$1.yaml" || bad "$(basename "$2"): no 'solver:' line"
 }
+with_petsc() { with_linear petsc "$1"; }
 # parallel_suite NAME DIR FIELDS: the four runs of the case DIR/case.yaml, compared with the
 # serial direct run.
 parallel_suite() {
   local name="$1" d="$2" fields="$3"
   with_petsc "$d/case.yaml"
-  expect "$name: serial, direct" 0 "" -- run "$d/case.yaml" -o "$d/direct" --quiet
+  with_linear direct "$d/case.yaml"
+  expect "$name: serial, direct" 0 "" -- run "$d/case-direct.yaml" -o "$d/direct" --quiet
   expect "$name: serial, PETSc CG + GAMG" 0 "" -- run "$d/case-petsc.yaml" -o "$d/petsc1" --quiet
   mpi_expect "$name: 2 ranks, MUMPS (the default for direct)" 0 "" 2 -- \
-    run "$d/case.yaml" -o "$d/mumps2" --quiet
-  mpi_expect "$name: 3 ranks, MUMPS" 0 "" 3 -- run "$d/case.yaml" -o "$d/mumps3" --quiet
+    run "$d/case-direct.yaml" -o "$d/mumps2" --quiet
+  mpi_expect "$name: 3 ranks, MUMPS" 0 "" 3 -- run "$d/case-direct.yaml" -o "$d/mumps3" --quiet
   mpi_expect "$name: 2 ranks, CG + GAMG" 0 "" 2 -- run "$d/case-petsc.yaml" -o "$d/gamg2" --quiet
   same "$name: 2 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps2" 1e-8 "$fields"
   same "$name: 3 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps3" 1e-8 "$fields"
@@ -46,6 +49,11 @@ ex_copy lame-cylinder
 d="$work/examples/lame-cylinder"
 ex_set "$d/cylinder.geo" '^h = [0-9.e-]+;' 'h = 0.02;'
 parallel_suite "parallel lame-cylinder" "$d" displacement,stress
+mpi_expect "parallel lame-cylinder: auto (the default) on 2 ranks is CG + GAMG, and says why" 0 \
+  "linear solver \(solver.linear: auto\): PETSc CG \+ GAMG; 2 MPI ranks" 2 -- \
+  run "$d/case.yaml" -o "$d/auto2"
+same "parallel lame-cylinder: auto on 2 ranks = serial direct to 1e-7" "$d/direct" "$d/auto2" 1e-7 \
+  displacement,stress
 ex_check "parallel lame-cylinder: summary says 2 ranks and MUMPS" "$d/mumps2/summary.json" \
   's["ranks"] == 2 and "mumps" in s["linear_solver"]["method"] and s["peak_memory_bytes_all_ranks"] >= s["peak_memory_bytes"]'
 ex_check "parallel lame-cylinder: history.csv written once (a header and 2 steps)" \
@@ -149,8 +157,9 @@ ex_copy cantilever
 d="$work/examples/cantilever"
 ex_set "$d/beam.geo" '^n = [0-9]+;' 'n = 4;'
 ex_set "$d/case.yaml" 'displacement: \{x: 0, y: 0, z: 0\}' 'displacement: {x: 0}'
+with_linear direct "$d/case.yaml"
 mpi_expect "parallel: a body not held, MUMPS on 2 ranks: exit 1 naming the cause" 1 \
-  "'boundary'.*relative residual.*not held against rigid-body motion" 2 -- run "$d/case.yaml" --quiet
+  "'boundary'.*relative residual.*not held against rigid-body motion" 2 -- run "$d/case-direct.yaml" --quiet
 with_petsc "$d/case.yaml"
 mpi_expect "parallel: a body not held, CG + GAMG on 2 ranks: exit 1 naming the cause" 1 \
   "'boundary'.*not held against rigid-body motion" 2 -- run "$d/case-petsc.yaml" --quiet
