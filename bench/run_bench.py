@@ -6,9 +6,12 @@ at increasing sizes; the very same .msh is solved by hencky and, converted to an
 CalculiX (ccx). For every size it records hencky's phase times (summary.json), the end-to-end
 wall time and peak memory of both programs (/usr/bin/time -v), the accuracy of both against
 the closed form, and the flop rate of CHOLMOD's factorization next to the machine's dense
-matrix-multiply rate (numpy, same OpenBLAS).
+matrix-multiply rate (numpy, same OpenBLAS) and one core's memory bandwidth (numpy triad). hencky
+runs with its default `solver.linear: auto`; --compare runs the solvers it chooses between as
+well, for the table of its choice.
 
     /usr/bin/python3 bench/run_bench.py                    # default sizes, up to ~400k unknowns
+    /usr/bin/python3 bench/run_bench.py --compare direct,petsc  # and both solvers auto chooses from
     /usr/bin/python3 bench/run_bench.py --max-dofs 1100000 # add the ~1M size
     /usr/bin/python3 bench/run_bench.py --help
 
@@ -31,24 +34,30 @@ from henckybench.problems import PROBLEMS
 from henckybench.report import fmt_s, mib
 from henckybench.runs import probe_value
 
+LINEAR = ("auto", "direct", "iterative", "petsc")
+
 
 # ----------------------------------------------------------------------------------------------
 # Benchmark
 # ----------------------------------------------------------------------------------------------
-def bench_one(problem, target, args, work, exe) -> dict:
+def bench_one(problem, target, args, work, exe, linear=None, compare=False) -> dict:
+    """One problem at one size with solver.linear = `linear` (default args.linear). `compare`:
+    a --compare run, once, without ccx."""
+    linear = linear or args.linear
     spec = PROBLEMS[problem]
     msh, gmsh_seconds, h = gmsh.size_for(problem, target, work, args.threads)
     run_dir = gmsh.mesh_run_dir(msh, work)
     local_msh = run_dir / msh.name
-    case = run_dir / ("case.yaml" if args.linear == "direct" else f"case-{args.linear}.yaml")
-    case.write_text(problems.elastic_case(problem, local_msh, args.linear))
+    case = run_dir / ("case.yaml" if linear == "direct" else f"case-{linear}.yaml")
+    case.write_text(problems.elastic_case(problem, local_msh, linear))
     exact = spec["exact"]()
     comp, sign = spec["sign"]
-    row = dict(problem=problem, target_dofs=target, linear=args.linear, h=h, msh=str(msh), gmsh_seconds=gmsh_seconds,
+    row = dict(problem=problem, target_dofs=target, linear=linear, h=h, msh=str(msh), gmsh_seconds=gmsh_seconds,
                exact=exact, reference=spec["reference"], quantity=spec["quantity"])
-    print(f"[{problem} ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
+    print(f"[{problem} ~{target / 1000:.0f}k, linear: {linear}] h = {h:g}: {msh.name}", flush=True)
 
-    ccx_ok = (not args.no_ccx) and shutil.which("ccx") and (args.ccx_max_dofs <= 0 or target <= args.ccx_max_dofs)
+    ccx_ok = (not compare and not args.no_ccx and shutil.which("ccx")
+              and (args.ccx_max_dofs <= 0 or target <= args.ccx_max_dofs))
     inp_info = None
     if ccx_ok:
         t0 = time.perf_counter()
@@ -59,7 +68,7 @@ def bench_one(problem, target, args, work, exe) -> dict:
         del mesh
 
     hencky_runs, ccx_runs = [], []
-    repeats = max(1, args.repeat)
+    repeats = 1 if compare else max(1, args.repeat)
     k = 0
     while k < repeats:
         runner.quiet(args)
@@ -81,7 +90,7 @@ def bench_one(problem, target, args, work, exe) -> dict:
                   f"  SPOOLES on {c['cpus'].get('spooles', '?')} threads; others {c['others']:.2f} cores", flush=True)
         k += 1
         slowest = max([r["wall"]] + ([c["wall"]] if ccx_ok else []))
-        if k == 1 and slowest > args.repeat_below:
+        if k == 1 and slowest > args.repeat_below and not compare:
             repeats = max(1, args.repeat_large)  # large sizes: fewer runs
     # Runs during which other programs took more than --disturbed cores are left out of the
     # statistics when at least one undisturbed run exists (all runs are kept in *_all).
@@ -102,6 +111,7 @@ def bench_one(problem, target, args, work, exe) -> dict:
         phases={p: runner.median([r["summary"]["wall_seconds"][p] for r in hencky_runs]) for p in phases},
         factor_flops=s["linear_solver"]["factor_flops"],
         factor_nonzeros=s["linear_solver"].get("factor_nonzeros"),
+        matrix_nonzeros=s["linear_solver"].get("matrix_nonzeros"),
         factor_gflops=runner.median([r["summary"]["linear_solver"].get("factor_gflops_per_second") for r in hencky_runs]),
         method=s["linear_solver"]["method"],
         iterations=s["linear_solver"].get("iterations"),
@@ -147,6 +157,58 @@ def bench_one(problem, target, args, work, exe) -> dict:
 # ----------------------------------------------------------------------------------------------
 # Reports
 # ----------------------------------------------------------------------------------------------
+def solver_name(h: dict) -> str:
+    m = h.get("method", "")
+    return "CHOLMOD" if "CHOLMOD" in m else "CG + GAMG" if "gamg" in m else m
+
+
+# Fine-level matrix products per CG + GAMG iteration: CG's own, two Chebyshev steps before and two
+# after the coarse correction, and the residual passed down (PETSc's V-cycle defaults).
+PRODUCTS_PER_ITERATION = 6
+
+
+def physical_limit(h: dict, blas: dict) -> float | None:
+    """The time the solver's own work would take at the machine's measured rates: a
+    factorization's flops at dgemm's rate on all cores; CG + GAMG's iterations as
+    PRODUCTS_PER_ITERATION fine-level products, each streaming the matrix (8-byte value +
+    4-byte column index per entry) at one core's triad bandwidth (coarser levels, vectors and
+    the set-up left out: a lower bound)."""
+    if "CHOLMOD" in h.get("method", "") and h.get("factor_flops"):
+        return h["factor_flops"] / (blas["gflops_all"] * 1e9)
+    if "gamg" in h.get("method", "") and h.get("matrix_nonzeros") and blas.get("stream_1"):
+        return h["iterations"] * PRODUCTS_PER_ITERATION * h["matrix_nonzeros"] * 12 / (blas["stream_1"] * 1e9)
+    return None
+
+
+def choice_table(rows: dict, blas: dict) -> str:
+    """solver.linear: auto against both solvers it chooses between, on the same mesh."""
+    out = ["### `solver.linear: auto` against both solvers\n",
+           "The same mesh solved with `linear: direct` (CHOLMOD, 2 threads) and `linear: petsc` "
+           "(CG + GAMG, one process), one run each, beside the default `auto`. `Mflop/unknown`: "
+           "the factorization's flops per unknown, which auto predicts from 150,000 unknowns "
+           "on and compares with its crossover, 4.6. Physical limit: the factorization's flops "
+           "at dgemm's rate (all cores); CG's iterations at 6 fine-level matrix products each, "
+           "streamed at one core's triad bandwidth (a lower bound).\n",
+           "| problem | unknowns | Mflop/unknown | direct s | direct MiB | direct limit s | CG + GAMG s | CG MiB | CG iterations | CG limit s | faster | auto chose | auto s |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|"]
+    keys = sorted({(p, t) for (p, t, lin) in rows}, key=lambda k: (k[0], k[1]))
+    n = 0
+    for p, t in keys:
+        d, g, a = rows.get((p, t, "direct")), rows.get((p, t, "petsc")), rows.get((p, t, "auto"))
+        if not (d and g):
+            continue
+        dh, gh = d["hencky"], g["hencky"]
+        fast = "direct" if dh["wall"] <= gh["wall"] else "CG + GAMG"
+        lim_d, lim_g = physical_limit(dh, blas), physical_limit(gh, blas)
+        out.append(f"| {p} | {dh['dofs']:,} | {dh['factor_flops'] / dh['dofs'] / 1e6:.2f} | {fmt_s(dh['wall'])} | "
+                   f"{mib(dh['peak_rss'])} | {fmt_s(lim_d) if lim_d else '–'} | {fmt_s(gh['wall'])} | "
+                   f"{mib(gh['peak_rss'])} | {gh.get('iterations', '–')} | {fmt_s(lim_g) if lim_g else '–'} | {fast} | "
+                   + (f"{solver_name(a['hencky'])} | {fmt_s(a['hencky']['wall'])} |" if a else "– | – |"))
+        n += 1
+    out.append("")
+    return "\n".join(out) if n else ""
+
+
 def markdown_tables(rows: list[dict], blas: dict) -> str:
     rows = sorted(rows, key=lambda r: (r["problem"], r["hencky"]["dofs"]))
     both = [r for r in rows if r.get("ccx")]
@@ -162,8 +224,12 @@ def markdown_tables(rows: list[dict], blas: dict) -> str:
                "Others h/c = CPU used by other programs during the hencky/ccx runs (cores, median; "
                "/proc/stat busy + steal time minus the benchmarked process's own): the machine "
                "is shared, and above ~0.2 the timings are disturbed.\n")
-    out.append("| problem | unknowns | n | hencky s | ccx s | speed-up | hencky MiB | ccx MiB | mem. ratio | hencky error | ccx error | Δ | others h/c |")
-    out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("Solver: what hencky ran (`solver.linear: auto` chooses; the log says why). Physical "
+               "limit: the time that solver's own work would take at the machine's measured rates "
+               "(the factorization's flops at dgemm's rate on all cores, or CG's iterations at one "
+               "core's memory bandwidth; `physical_limit` in the script).\n")
+    out.append("| problem | unknowns | n | solver | hencky s | physical limit s | ccx s | speed-up | hencky MiB | ccx MiB | mem. ratio | hencky error | ccx error | Δ | others h/c |")
+    out.append("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
         h, c, q = r["hencky"], r.get("ccx"), r.get("ratio")
         oth = f"{h['others']:.2f}" if h.get("others") is not None else "–"
@@ -172,7 +238,9 @@ def markdown_tables(rows: list[dict], blas: dict) -> str:
         out.append(
             f"| {r['problem']} | {h['dofs']:,} | {h['runs']}"
             + (f"/{c['runs']}" if c else "")
-            + f" | {fmt_s(h['wall'])} | {fmt_s(c['wall']) if c else '–'} | "
+            + f" | {solver_name(h)} | {fmt_s(h['wall'])} | "
+            + (fmt_s(physical_limit(h, blas)) if physical_limit(h, blas) else "–")
+            + f" | {fmt_s(c['wall']) if c else '–'} | "
             + (f"**{q['time']:.2f}×**" if q else "–")
             + f" | {mib(h['peak_rss'])} | {mib(c['peak_rss']) if c else '–'} | "
             + (f"{q['memory']:.2f}" if q else "–")
@@ -194,7 +262,9 @@ def markdown_tables(rows: list[dict], blas: dict) -> str:
     keys = ("mesh", "setup", "assembly", "factorization", "solve", "material", "output", "total")
     out.append("### hencky phases (seconds, median; `summary.json` `wall_seconds`)\n")
     out.append("`factorization` includes CHOLMOD's symbolic analysis (fill-reducing ordering: "
-               "AMD, then METIS when AMD's fill is high; the smaller fill wins). `material` is the "
+               "METIS nested dissection of the node graph), or with CG + GAMG the preconditioner's "
+               "set-up (then `solve` is CG's iterations). `setup` includes `auto`'s prediction of the "
+               "factor from 150,000 unknowns on. `material` is the "
                "stress update and internal forces at the integration points (twice for a linear "
                "step: before the solve and for the equilibrium check). CPU = (user + system) / "
                "wall of the process: 2.0 is both cores busy.\n")
@@ -252,6 +322,8 @@ def markdown_tables(rows: list[dict], blas: dict) -> str:
     out.append("|---|---:|---:|---:|---:|---:|---:|---|")
     for r in rows:
         h = r["hencky"]
+        if "CHOLMOD" not in h.get("method", ""):
+            continue
         rate = h["factor_gflops"] or 0
         out.append(f"| {r['problem']} | {h['dofs']:,} | {(h['factor_nonzeros'] or 0) / 1e6:.1f} | "
                    f"{h['factor_flops'] / 1e9:.1f} | {fmt_s(h['phases']['factorization'])} | {rate:.1f} | "
@@ -291,6 +363,8 @@ def render(results: list[dict]) -> tuple[str, str]:
         for r in res["rows"]:
             rows[(r["problem"], r["target_dofs"], r.get("linear", "direct"))] = r
     direct = {(p, t): r for (p, t, lin), r in rows.items() if lin == "direct"}
+    # The main tables: hencky's default (auto) where it was run, else the direct solver.
+    main_rows = {(p, t): r for (p, t, lin), r in rows.items() if lin == "auto"} or direct
     iterative = [r for (p, t, lin), r in rows.items() if lin == "iterative"]
     main = results[-1]
     head = report.machine_markdown(main["machine"], main["blas"]) + "\n\n" + "\n".join(
@@ -299,7 +373,8 @@ def render(results: list[dict]) -> tuple[str, str]:
         f"{res['blas']['gflops_all']:.1f} GFLOP/s; `{report.in_repository(res['command'])}`"
         + (f"; hencky environment {res['hencky_env']}" if res.get("hencky_env") else "")
         for res in results)
-    tables = markdown_tables(list(direct.values()), main["blas"]) if direct else ""
+    tables = markdown_tables(list(main_rows.values()), main["blas"]) if main_rows else ""
+    tables += "\n" + choice_table(rows, main["blas"])
     if iterative:
         tables += "\n" + iterative_table(iterative, direct)
     return head, tables
@@ -321,8 +396,11 @@ def main():
                     help="before each run wait up to this many seconds for other programs to leave the CPU (0: never wait)")
     ap.add_argument("--disturbed", type=float, default=0.25,
                     help="leave runs during which other programs used more than this many cores out of the medians (when an undisturbed run exists)")
-    ap.add_argument("--linear", choices=("direct", "iterative"), default="direct",
-                    help="hencky's linear solver (solver.linear of the case)")
+    ap.add_argument("--linear", choices=LINEAR, default="auto",
+                    help="hencky's linear solver (solver.linear of the case; default auto, hencky's default)")
+    ap.add_argument("--compare", default="",
+                    help="other solver.linear values run once more per size, without ccx (e.g. direct,petsc: the "
+                         "table of auto's choice)")
     ap.add_argument("--threads", type=int, default=os.cpu_count(), help="threads for hencky and ccx (default: all cores)")
     ap.add_argument("--hencky-env", action="append", default=[], metavar="NAME=VALUE",
                     help="extra environment for hencky (experiments, e.g. OMP_WAIT_POLICY=passive)")
@@ -348,8 +426,10 @@ def main():
         def measure_blas():
             if args.wait_quiet > 0:
                 runner.wait_quiet(args.wait_quiet)
-            b = dict(gflops_all=runner.dgemm_rate(args.blas_n, None), gflops_1=runner.dgemm_rate(args.blas_n, 1))
-            print(f"dgemm n={args.blas_n}: {b['gflops_all']:.1f} GFLOP/s all cores, {b['gflops_1']:.1f} one core", flush=True)
+            b = dict(gflops_all=runner.dgemm_rate(args.blas_n, None), gflops_1=runner.dgemm_rate(args.blas_n, 1),
+                     stream_1=runner.stream_rate())
+            print(f"dgemm n={args.blas_n}: {b['gflops_all']:.1f} GFLOP/s all cores, {b['gflops_1']:.1f} one core;"
+                  f" triad {b['stream_1']:.1f} GB/s one core", flush=True)
             return b
         blas_runs = [measure_blas()]
 
@@ -360,11 +440,14 @@ def main():
         for problem in args.problems.split(","):
             for target in sizes:
                 rows.append(bench_one(problem, int(target), args, work, exe))
+                for other in [x for x in args.compare.split(",") if x and x != args.linear]:
+                    rows.append(bench_one(problem, int(target), args, work, exe, other, compare=True))
         blas_runs.append(measure_blas())
         # The machine's capability: the best of the measurements (other programs only slow it).
         blas = dict(n=args.blas_n, runs=blas_runs,
                     gflops_all=max(b["gflops_all"] for b in blas_runs),
-                    gflops_1=max(b["gflops_1"] for b in blas_runs))
+                    gflops_1=max(b["gflops_1"] for b in blas_runs),
+                    stream_1=max(b["stream_1"] for b in blas_runs))
         result = dict(
             timestamp=stamp, machine=m, blas=blas, **runner.program_facts(exe),
             command=" ".join([sys.executable] + sys.argv), threads=args.threads,

@@ -66,7 +66,8 @@ def machine_markdown(m: dict, blas: dict) -> str:
         f"- CalculiX: {m['ccx']} with {m['spooles']}; Gmsh {m['gmsh']}; numpy {m['numpy']}",
         f"- Dense matrix multiply (numpy `a @ b`, n = {blas['n']}, OpenBLAS dgemm): "
         f"**{blas['gflops_all']:.1f} GFLOP/s** with all cores, {blas['gflops_1']:.1f} GFLOP/s on one core",
-    ])
+    ] + ([f"- Memory bandwidth of one core (numpy triad a = b + s c, 20 M doubles, in place): "
+          f"**{blas['stream_1']:.1f} GB/s**"] if blas.get("stream_1") else []))
 
 
 # ----------------------------------------------------------------------------------------------

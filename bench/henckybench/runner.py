@@ -297,6 +297,26 @@ def dgemm_rate(n: int, threads: int | None, reps: int = 3) -> float:
     return float(out.stdout.strip())
 
 
+def stream_rate(n: int = 20_000_000, reps: int = 5) -> float:
+    """Memory bandwidth of one core in GB/s, STREAM-like: the best of `reps` triads
+    a = b + s c on arrays of n doubles (numpy, in place: 5 × 8n bytes read or written), in a
+    child process on one thread. What a sparse matrix-vector product on one core (PETSc in one
+    process) is bounded by."""
+    code = (
+        "import numpy as np, time\n"
+        f"n={n}\n"
+        "a=np.zeros(n); b=np.random.rand(n); c=np.random.rand(n)\n"
+        "best=0\n"
+        f"for _ in range({reps}):\n"
+        "    t=time.perf_counter(); np.multiply(c, 3.0, out=a); np.add(a, b, out=a)\n"
+        "    best=max(best, 5*8*n/(time.perf_counter()-t)/1e9)\n"
+        "print(best)\n"
+    )
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    return float(out.stdout.strip())
+
+
 SOURCE_PATHS = "-- src app CMakeLists.txt"  # what a hencky binary is built from, for git
 
 
