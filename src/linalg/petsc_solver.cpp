@@ -74,23 +74,11 @@ struct PetscSolver::Impl {
     return (*dofs).eq[k * node + d] < 0 ? -1 : first_row[node] + d;
   }
 
-  /// The rows of one process's matrix in CSR (columns sorted) from the cells around each node
-  /// (ptr, idx: node_cell_incidence). Rows are numbered k × node + d (first_row[n] = k n).
-  void local_pattern(const std::vector<int>& ptr, const std::vector<int>& idx,
-                     std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& col) const {
+  /// The rows of one process's matrix in CSR (columns sorted). Rows are numbered k × node + d
+  /// (first_row[n] = k n).
+  void local_pattern(std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& col) const {
     const int n_nodes = mesh->n_nodes();
-    std::vector<std::vector<int>> neighbours(n_nodes);
-#pragma omp parallel
-    {
-      std::vector<int> mark(n_nodes, -1);
-#pragma omp for schedule(dynamic, 256)
-      for (int v = 0; v < n_nodes; ++v) {
-        for (int c = ptr[v]; c < ptr[v + 1]; ++c)
-          for (int w : mesh->cells.nodes(idx[c]))
-            if (mark[w] != v) mark[w] = v, neighbours[v].push_back(w);
-        std::sort(neighbours[v].begin(), neighbours[v].end());
-      }
-    }
+    const std::vector<std::vector<int>> neighbours = node_neighbours(mesh->cells, n_nodes);
     row_ptr.assign(static_cast<std::size_t>(k) * n_nodes + 1, 0);
     for (int v = 0; v < n_nodes; ++v)
       for (int d = 0; d < k; ++d) {
@@ -161,9 +149,6 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   }
   const PetscInt n_local = k * static_cast<PetscInt>(s.owned.size());
 
-  // Preallocation per block row: the nodes coupled to each owned node through its cells.
-  std::vector<int> ptr, idx;
-  node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
   check_petsc(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
   check_petsc(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
   check_petsc(MatSetBlockSize(s.A, k), "MatSetBlockSize");
@@ -172,11 +157,14 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
     // prescribed one to itself (its identity row); PETSc keeps it as given (columns sorted).
     check_petsc(MatSetType(s.A, MATSEQAIJ), "MatSetType");
     std::vector<PetscInt> row_ptr, col;
-    s.local_pattern(ptr, idx, row_ptr, col);
+    s.local_pattern(row_ptr, col);
     check_petsc(MatSeqAIJSetPreallocationCSR(s.A, row_ptr.data(), col.data(), nullptr),
                 "matrix preallocation");
     s.local = true;
   } else {
+    // Preallocation per block row: the nodes coupled to each owned node through its cells.
+    std::vector<int> ptr, idx;
+    node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
     std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
     std::vector<int> seen(n_nodes, -1);
     for (std::size_t l = 0; l < s.owned.size(); ++l) {

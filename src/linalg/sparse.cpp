@@ -36,11 +36,9 @@ void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& pt
     for (int n : cells.nodes(c)) idx[fill[n]++] = c;
 }
 
-SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs) {
+std::vector<std::vector<int>> node_neighbours(const CellSet& cells, int n_nodes) {
   std::vector<int> nc_ptr, nc_idx;
   node_cell_incidence(cells, n_nodes, nc_ptr, nc_idx);
-
-  // Neighbour nodes of every node (including itself), sorted.
   std::vector<std::vector<int>> neighbours(n_nodes);
 #pragma omp parallel
   {
@@ -57,6 +55,11 @@ SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& 
       std::sort(nb.begin(), nb.end());
     }
   }
+  return neighbours;
+}
+
+SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs) {
+  const std::vector<std::vector<int>> neighbours = node_neighbours(cells, n_nodes);
 
   // Column j (a free dof of node v) holds the free dofs i <= j of the neighbours of v.
   SymmetricPattern p;

@@ -44,6 +44,9 @@ std::vector<std::int64_t> nested_dissection(const SymmetricPattern& pattern);
 void node_cell_incidence(const CellSet& cells, int n_nodes, std::vector<int>& ptr,
                          std::vector<int>& idx);
 
+/// The nodes coupled to each node through the cells, itself included, sorted. In parallel.
+std::vector<std::vector<int>> node_neighbours(const CellSet& cells, int n_nodes);
+
 /// Pattern of the free dofs coupled through the cells. Runs in parallel over nodes.
 SymmetricPattern build_pattern(const CellSet& cells, int n_nodes, const DofMap& dofs);
 

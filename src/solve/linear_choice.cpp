@@ -37,6 +37,10 @@ double available_memory_bytes() {
   return 0;
 }
 
+double LinearChoiceRule::crossover_at(double n) const {
+  return crossover_flops * std::pow(n / 1e5, crossover_growth);
+}
+
 namespace {
 
 /// A temperature system is measured against the thresholds by its nodes, as if each had the
@@ -64,6 +68,7 @@ LinearChoice choose_linear(const LinearChoiceInputs& in, const LinearChoiceRule&
   const double scale = 9.0 / (in.per_node * in.per_node);
   const double flops_per_unknown = analysed ? scale * in.factor_flops / in.unknowns : 0;
   const char* as_displacement = in.per_node == 3 ? "" : " (as a displacement on this mesh)";
+  const double crossover = rule.crossover_at(equivalent_unknowns(in));
   const std::string memory =
       in.available_bytes > 0 ? fmt::format(" of the {:.1f} GiB available", gib(in.available_bytes))
                              : std::string();
@@ -78,20 +83,21 @@ LinearChoice choose_linear(const LinearChoiceInputs& in, const LinearChoiceRule&
         "{:.0f} % of the {:.1f} GiB available",
         in.unknowns, gib(c.predicted_direct_bytes), 100 * rule.memory_fraction,
         gib(in.available_bytes));
-  } else if (analysed && flops_per_unknown >= rule.crossover_flops) {
+  } else if (analysed && flops_per_unknown >= crossover) {
     c.linear = SolverSpec::Linear::petsc;
     c.reason = fmt::format(
         "{} unknowns: the factorization would cost {:.3g} Gflop, {:.2g} Mflop per unknown{}, at "
-        "least the {:.2g} from which CG + GAMG is faster",
+        "least the {:.2g} from which CG + GAMG is faster at this size",
         in.unknowns, in.factor_flops / 1e9, flops_per_unknown / 1e6, as_displacement,
-        rule.crossover_flops / 1e6);
+        crossover / 1e6);
   } else if (analysed) {
     c.linear = SolverSpec::Linear::direct;
     c.reason = fmt::format(
         "{} unknowns: the factorization should cost {:.3g} Gflop, {:.2g} Mflop per unknown{}, "
-        "below the {:.2g} from which CG + GAMG would be faster, and take about {:.2g} GiB{}",
+        "below the {:.2g} from which CG + GAMG would be faster at this size, and take about "
+        "{:.2g} GiB{}",
         in.unknowns, in.factor_flops / 1e9, flops_per_unknown / 1e6, as_displacement,
-        rule.crossover_flops / 1e6, gib(c.predicted_direct_bytes), memory);
+        crossover / 1e6, gib(c.predicted_direct_bytes), memory);
   } else {
     c.linear = SolverSpec::Linear::direct;
     c.reason = fmt::format(

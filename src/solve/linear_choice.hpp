@@ -2,17 +2,19 @@
 // `solver.linear: auto` (the default): which back end solves a run's linear systems, and why.
 // On one process the choice is between CHOLMOD (2 threads) and PETSc CG + GAMG with the
 // rigid-body near null space (one process, one core). What decides is the factorization's
-// cost against the unknowns: CG + GAMG costs about the same time per unknown whatever the
-// shape (110-120 µs here, elastic tet10), a factorization its flops, which grow faster than
-// the unknowns and much faster for a compact body than for a slender one (at ~390k unknowns
-// the cylinder's factor costs 2.9× the cantilever's flops). The rule, from the crossovers
-// measured on both (docs/performance.md, "solver.linear: auto"):
+// cost against the unknowns n: a factorization costs its flops (at ~45 Gflop/s on this
+// machine's 2 cores), which grow much faster for a compact body than for a slender one (at
+// ~390k unknowns the cylinder's factor costs 2.9× the cantilever's flops); CG + GAMG costs
+// about 8 s × (n / 100k)^1.4 on the bench problems (elastic tet10, one core: 80 µs per unknown
+// at 100k, 210 µs at 1M). So CG + GAMG is faster from 3.6 Mflop per unknown × (n / 100k)^0.4
+// on. The rule, from the crossovers measured on both problems (docs/performance.md,
+// "solver.linear: auto"):
 //
 //  - more than one MPI rank: CG + GAMG (MUMPS was slower on 2 ranks on every benchmark);
 //  - a factor predicted not to fit in the memory available: CG + GAMG;
 //  - from `analyze_from` unknowns, the factor is predicted by a symbolic analysis of the node
 //    graph (linalg/sparse.hpp, estimate_factor): CG + GAMG when it costs at least
-//    `crossover_flops` per unknown;
+//    crossover_flops × (n / 100k)^crossover_growth per unknown;
 //  - otherwise CHOLMOD.
 #include <cstdint>
 #include <string>
@@ -37,9 +39,12 @@ struct LinearChoiceRule {
   /// nodes × 3) the factor is predicted by a symbolic analysis; below, the factorization is
   /// cheaper than CG + GAMG on every model measured (at most 1.3 Mflop per unknown at ~100k).
   std::int64_t analyze_from = 150'000;
-  /// Factorization flops per unknown from which CG + GAMG is faster: its ~115 µs per unknown
-  /// at the factorization's ~40 Gflop/s on this machine's 2 cores.
-  double crossover_flops = 4.6e6;
+  /// Factorization flops per unknown from which CG + GAMG is faster, at 100k unknowns, and
+  /// the exponent of its growth with n / 100k (GAMG's time grows as n^1.4 here).
+  double crossover_flops = 3.6e6;
+  double crossover_growth = 0.4;
+  /// crossover_flops at n unknowns.
+  double crossover_at(double n) const;
   /// The factorization's peak may take this fraction of the memory available.
   double memory_fraction = 0.7;
   /// Peak of a direct solve per factor entry (measured 12.3 bytes, docs/performance.md).
@@ -50,7 +55,7 @@ struct LinearChoiceRule {
   double factor_coefficient = 10.0;
 
   /// The defaults, with HENCKY_AUTO_ANALYZE_FROM (unknowns) and HENCKY_AUTO_CROSSOVER (flops
-  /// per unknown) from the environment when set: for tests and experiments
+  /// per unknown at 100k unknowns) from the environment when set: for tests and experiments
   /// (docs/development.md).
   static LinearChoiceRule from_environment();
 };
