@@ -186,7 +186,8 @@ def choice_table(rows: dict, blas: dict) -> str:
            "The same mesh solved with `linear: direct` (CHOLMOD, 2 threads) and `linear: petsc` "
            "(CG + GAMG, one process), one run each, beside the default `auto`. `Mflop/unknown`: "
            "the factorization's flops per unknown, which auto predicts from 150,000 unknowns "
-           "on and compares with its crossover, 4.6. Physical limit: the factorization's flops "
+           "on and compares with its crossover, 3.6 × (unknowns / 100k)^0.4 (it also takes CG + "
+           "GAMG when the factor would need more than 70 % of the memory available). Physical limit: the factorization's flops "
            "at dgemm's rate (all cores); CG's iterations at 6 fine-level matrix products each, "
            "streamed at one core's triad bandwidth (a lower bound).\n",
            "| problem | unknowns | Mflop/unknown | direct s | direct MiB | direct limit s | CG + GAMG s | CG MiB | CG iterations | CG limit s | faster | auto chose | auto s |",

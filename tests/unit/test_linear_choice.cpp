@@ -57,8 +57,9 @@ TEST(LinearChoice, TheCrossoverGrowsWithTheSize) {
   EXPECT_DOUBLE_EQ(rule.crossover_at(1e5), 3.6e6);
   EXPECT_NEAR(rule.crossover_at(1e6), 3.6e6 * std::pow(10.0, 0.4), 1);
   // The bench's two cases at ~390k (docs/performance.md): the cantilever's 2.4 Mflop per
-  // unknown stays direct, the cylinder's 6.8 goes to CG + GAMG; the 1M cantilever's 6.6 stays
-  // direct (CHOLMOD 184 s, CG + GAMG 218-273 s there).
+  // unknown stays direct, the cylinder's 6.8 goes to CG + GAMG; the 1M cantilever's 7.1 stays
+  // direct on its flops (CHOLMOD 184 s, CG + GAMG 218-273 s there; memory is not given here:
+  // with the 23 GB of that machine its 17.5 GB factor goes to CG + GAMG).
   LinearChoiceInputs in = displacement(384'597);
   in.factor_entries = 3.5e8;
   in.factor_flops = 2.38e6 * in.unknowns;
@@ -67,7 +68,7 @@ TEST(LinearChoice, TheCrossoverGrowsWithTheSize) {
   in.factor_flops = 6.77e6 * in.unknowns;
   EXPECT_EQ(choose_linear(in, rule).linear, SolverSpec::Linear::petsc);
   in.unknowns = 1'028'922;
-  in.factor_flops = 6.6e6 * in.unknowns;
+  in.factor_flops = 7.08e6 * in.unknowns;
   EXPECT_EQ(choose_linear(in, rule).linear, SolverSpec::Linear::direct);
 }
 
