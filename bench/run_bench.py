@@ -62,7 +62,8 @@ def bench_one(problem, target, args, work, exe, linear=None, compare=False) -> d
     if ccx_ok:
         t0 = time.perf_counter()
         mesh = gmsh.read_msh4(msh)
-        inp_info = calculix.write_elastic_inp(problem, mesh, run_dir / "job.inp")
+        inp_info = calculix.write_elastic_inp(problem, mesh, run_dir / "job.inp", args.ccx_solver)
+        row["ccx_solver"] = args.ccx_solver
         row["ccx_input"] = dict(inp_info, convert_seconds=time.perf_counter() - t0,
                                 elements=int(len(mesh["tets"])), nodes=int(len(mesh["node_tags"])))
         del mesh
@@ -406,6 +407,8 @@ def main():
     ap.add_argument("--hencky-env", action="append", default=[], metavar="NAME=VALUE",
                     help="extra environment for hencky (experiments, e.g. OMP_WAIT_POLICY=passive)")
     ap.add_argument("--no-ccx", action="store_true", help="do not run CalculiX")
+    ap.add_argument("--ccx-solver", choices=("spooles", "iterative-cholesky"), default="spooles",
+                    help="ccx's solver: SPOOLES (its default) or *STATIC, SOLVER=ITERATIVE CHOLESKY")
     ap.add_argument("--ccx-max-dofs", type=float, default=0, help="run ccx only up to this target size (0: always)")
     ap.add_argument("--work", type=Path, default=BENCH / "work", help="meshes and runs (default bench/work)")
     ap.add_argument("--results", type=Path, default=BENCH / "results")

@@ -101,9 +101,11 @@ def ccx_face_pressure(coords: np.ndarray, tets_ccx: np.ndarray, tris: np.ndarray
 # ----------------------------------------------------------------------------------------------
 # The problems' inputs
 # ----------------------------------------------------------------------------------------------
-def write_elastic_inp(problem: str, mesh: dict, inp: Path) -> dict:
-    """An elastic problem of PROBLEMS for ccx: C3D10, *ELASTIC, one *STATIC step; the probe node
-    printed to the .dat."""
+def write_elastic_inp(problem: str, mesh: dict, inp: Path, solver: str = "spooles") -> dict:
+    """An elastic problem of PROBLEMS for ccx: C3D10, *ELASTIC, one *STATIC step (solved by
+    SPOOLES, or with solver = "iterative-cholesky" by ccx's CG preconditioned with an incomplete
+    Cholesky factorization, *STATIC, SOLVER=ITERATIVE CHOLESKY); the probe node printed to the
+    .dat."""
     coords, tets = mesh["coords"], mesh["tets"]
     tets_ccx, order_error = ccx_tets(mesh)
     used = mesh["node_tags"]
@@ -136,7 +138,7 @@ def write_elastic_inp(problem: str, mesh: dict, inp: Path) -> dict:
         bcs = "*BOUNDARY\nSYM_X,1,1\nSYM_Y,2,2\nBOTTOM,3,3\nTOP,3,3\n"
         # Pressure on the bore: *DLOAD on the element faces that lie on it.
         loads.append(ccx_face_pressure(coords, tets_ccx, surf["bore"], CYL["p"]))
-    out.append("*STEP\n*STATIC\n")
+    out.append("*STEP\n*STATIC\n" if solver == "spooles" else "*STEP\n*STATIC, SOLVER=ITERATIVE CHOLESKY\n")
     out.append(bcs)
     out += loads
     out.append("*NODE PRINT, NSET=PROBE\nU\n*NODE FILE\nU\n*EL FILE\nS\n*END STEP\n")
