@@ -142,16 +142,16 @@ class CholmodSolver final : public SparseSolver {
 
 std::unique_ptr<SparseSolver> make_cholmod_solver() { return std::make_unique<CholmodSolver>(); }
 
-FactorEstimate estimate_factor(const CellSet& cells, int n_nodes, int per_node) {
+FactorEstimate estimate_factor(const CellSet& cells, int n_nodes) {
   const DofMap nodes = DofMap::from_constraints(n_nodes, std::vector<bool>(n_nodes, false), 1);
   const SymmetricPattern pattern = build_pattern(cells, n_nodes, nodes);
   FactorEstimate e;
   e.node_order = nested_dissection(pattern);
   CholmodSolver solver;
   solver.analyze(pattern, e.node_order);
-  const double k = per_node;
-  e.entries = solver.stats().factor_nnz * k * k - n_nodes * k * (k - 1) / 2;
-  e.flops = solver.stats().factor_flops * k * k * k;
+  e.entries = solver.stats().factor_nnz;
+  e.flops = solver.stats().factor_flops;
+  e.n_nodes = n_nodes;
   return e;
 }
 

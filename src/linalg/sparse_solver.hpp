@@ -50,17 +50,24 @@ inline double forcing_tolerance(double rtol, double floor) {
 
 enum class LinearSolverKind { direct, iterative };
 
-/// The factor of a mesh's system with `per_node` dofs at every node (none prescribed),
-/// predicted by CHOLMOD's symbolic analysis of the node graph under the nested-dissection
-/// ordering the direct back end uses: the node factor's entries × per_node² (less the upper
-/// halves of the diagonal blocks) and its flops × per_node³. A ninth of the dof graph's edges
-/// for per_node = 3; within a few % of the factor analysed on the dofs.
+/// The factor of a mesh's node graph (one unknown a node) under the nested-dissection ordering
+/// the direct back end uses, by CHOLMOD's symbolic analysis: it predicts the factor of a system
+/// with per_node dofs at every node (none prescribed) within a few % (entries_for, flops_for),
+/// on a ninth of the dof graph's edges for per_node = 3. One analysis serves the displacement
+/// and the temperature of the same mesh.
 struct FactorEstimate {
-  double entries = 0;
+  double entries = 0;  ///< of the node graph's factor
   double flops = 0;
+  int n_nodes = 0;
   std::vector<std::int64_t> node_order;  ///< the nodes' ordering analysed (every node)
+  /// × per_node² less the upper halves of the diagonal blocks; flops × per_node³.
+  double entries_for(int per_node) const {
+    const double k = per_node;
+    return entries * k * k - n_nodes * k * (k - 1) / 2;
+  }
+  double flops_for(int per_node) const { return flops * per_node * per_node * per_node; }
 };
-FactorEstimate estimate_factor(const CellSet& cells, int n_nodes, int per_node);
+FactorEstimate estimate_factor(const CellSet& cells, int n_nodes);
 
 /// `tolerance` is the relative residual of the iterative back end.
 std::unique_ptr<SparseSolver> make_sparse_solver(LinearSolverKind kind, double tolerance = 1e-10);

@@ -76,11 +76,10 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
     std::string estimate;
     if (wants_factor_estimate(in, rule)) {
       const auto t0 = std::chrono::steady_clock::now();
-      FactorEstimate f =
-          estimate_factor(spec_model.mesh().cells, spec_model.mesh().n_nodes(), dofs.per_node);
-      in.factor_flops = f.flops;
-      in.factor_entries = f.entries;
-      node_order = std::move(f.node_order);
+      const FactorEstimate& f = spec_model.node_factor();  // once for both systems
+      in.factor_flops = f.flops_for(dofs.per_node);
+      in.factor_entries = f.entries_for(dofs.per_node);
+      node_order = f.node_order;
       estimate =
           fmt::format(" (factor predicted by a symbolic analysis of the node graph in {:.2f} s)",
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

@@ -13,7 +13,7 @@
 //  - more than one MPI rank: CG + GAMG (MUMPS was slower on 2 ranks on every benchmark);
 //  - a factor predicted not to fit in the memory available: CG + GAMG;
 //  - from `analyze_from` unknowns, the factor is predicted by a symbolic analysis of the node
-//    graph (linalg/sparse.hpp, estimate_factor): CG + GAMG when it costs at least
+//    graph (linalg/sparse_solver.hpp, Model::node_factor): CG + GAMG when it costs at least
 //    crossover_flops × (n / 100k)^crossover_growth per unknown;
 //  - otherwise CHOLMOD.
 #include <cstdint>

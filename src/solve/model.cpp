@@ -130,6 +130,11 @@ void Model::bind_materials(Log& log) {
                          n_tet4));
 }
 
+const FactorEstimate& Model::node_factor() const {
+  if (!node_factor_) node_factor_ = estimate_factor(mesh_.cells, mesh_.n_nodes());
+  return *node_factor_;
+}
+
 bool Model::has_plasticity() const {
   for (const auto& m : materials_)
     if (m.plastic()) return true;

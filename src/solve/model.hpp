@@ -5,12 +5,14 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "contact/contact.hpp"
 #include "core/log.hpp"
 #include "linalg/assembler.hpp"
+#include "linalg/sparse_solver.hpp"
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
 #include "mesh/mesh.hpp"
@@ -71,6 +73,10 @@ class Model {
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return dofs_; }
   const Assembler& assembler() const { return *assembler_; }
+  /// The mesh's node-graph factor (linalg/sparse_solver.hpp, estimate_factor), analysed on
+  /// first use: solver.linear: auto's prediction for the displacement and the temperature, and
+  /// the ordering a direct back end then uses.
+  const FactorEstimate& node_factor() const;
   // Integration points are stored per rank, cell by cell, for the cells this rank holds
   // (hold_points); one rank holds every cell.
   /// This rank's points: the length of a State's integration-point arrays.
@@ -136,6 +142,7 @@ class Model {
   }
 
  private:
+  mutable std::optional<FactorEstimate> node_factor_;
   void bind_materials(Log& log);
   void check_cells();
   void bind_boundary();
