@@ -48,7 +48,7 @@ void bind(void* library, F& f, const char* name) {
 }
 
 void check(int ierr) {
-  if (ierr) throw GmshError{last_error()};
+  if (ierr) throw GmshError{};
 }
 
 /// Copies an array Gmsh allocated and frees it.

@@ -15,10 +15,9 @@ namespace hencky::gmsh_library {
 /// Debian package when it cannot be loaded.
 void load();
 
-// The calls hencky makes; each throws GmshError when Gmsh reports an error.
-struct GmshError {
-  std::string what;
-};
+// The calls hencky makes; each throws GmshError when Gmsh reports an error, whose text is
+// last_error() (Gmsh's logger keeps it; the reader reads it there, whatever stopped Gmsh).
+struct GmshError {};
 void initialize();
 void finalize();
 void set_number(const char* option, double value);
