@@ -6,8 +6,9 @@
 
 namespace hencky {
 
-/// Async-signal-safe: sets the flag (a volatile std::sig_atomic_t).
-void request_interrupt();
+/// Async-signal-safe: sets the flag (a lock-free atomic). Returns whether it was set already:
+/// of two signals handled at once by two threads, exactly one sees false.
+bool request_interrupt();
 bool interrupt_requested();
 /// Clears the flag (tests).
 void clear_interrupt();
