@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "core/interrupt.hpp"
 #include "core/log.hpp"
@@ -53,8 +54,7 @@ char abort_message[4096] = "";
 std::size_t interrupt_length = 0, abort_length = 0;
 
 extern "C" void on_signal(int) {
-  if (!interrupt_requested()) {
-    request_interrupt();
+  if (!request_interrupt()) {
     if (interrupt_length && par::root()) [[maybe_unused]]
       auto n = ::write(STDERR_FILENO, interrupt_message, interrupt_length);
     return;
@@ -226,8 +226,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         if (!restart.empty()) resume = restart_memory(model, restart_dir, from, earlier, log);
       }))
     return code;
-  // Root writes every output (the other ranks' shares of the recovered fields are summed to
-  // it).
+  // Root writes every output but the other ranks' pieces of the fields files.
   std::unique_ptr<ResultWriter> writer;
   std::unique_ptr<CheckpointWriter> checkpoints;
   if (int code = together([&] {
@@ -241,9 +240,11 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       }))
     return code;
   catch_interrupts(writer ? writer->work_dir() : fs::path());
-  struct : StepObserver {
-    void step_done(const StepReport&, const State&, const RecoveredFields&) override {}
-  } nothing;  // the other ranks' observer
+  // The other ranks write their pieces of the fields files into root's work directory.
+  std::string work_dir = writer ? writer->work_dir().string() : std::string();
+  par::broadcast(work_dir);
+  std::optional<PieceWriter> piece;
+  if (!writer) piece.emplace(model, work_dir);
   Timings timings;
   AnalysisResult result;
   try {
@@ -252,7 +253,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     options.checkpoints = checkpoints.get();
     result =
         run_analysis(model, *solver, log, timings,
-                     writer ? static_cast<StepObserver&>(*writer) : nothing, heat.get(), options);
+                     writer ? static_cast<StepObserver&>(*writer) : *piece, heat.get(), options);
   } catch (const InputError&) {
     if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;

@@ -1,7 +1,7 @@
 #!/usr/bin/env pvpython
 """Render a hencky result to a PNG with ParaView, headless.
 
-    pvpython scripts/render.py RESULT.pvd|RESULT.vtu OUT.png --field von_mises
+    pvpython scripts/render.py RESULT.pvd|RESULT.vtu|RESULT.pvtu OUT.png --field von_mises
         [--component N] [--warp displacement --scale S] [--camera iso|x|y|z]
         [--title TEXT] [--units TEXT] [--size 1200x800] [--edges] [--range MIN MAX]
         [--time T] [--colormap NAME] [--no-colorbar] [--crop XMIN XMAX YMIN YMAX ZMIN ZMAX]
@@ -30,7 +30,7 @@ TITLE_PIXELS = 50  # and at the top for the title
 
 def parse_args():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("result", help=".pvd or .vtu")
+    p.add_argument("result", help=".pvd, .vtu or .pvtu (a run on several MPI ranks)")
     p.add_argument("out", help="PNG file to write")
     p.add_argument("--field", default="von_mises", help="array to colour by (default von_mises)")
     p.add_argument("--component", type=int, default=None, metavar="N",

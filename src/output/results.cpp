@@ -10,10 +10,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "fem/reference_element.hpp"
+#include "parallel/mpi.hpp"
 
 namespace hencky {
 namespace fs = std::filesystem;
@@ -284,6 +287,7 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   header_ = h.str();
   history_ << header_;
   pvd_ = std::make_unique<PvdWriter>(work_dir_ / "results.pvd");
+  fields_ = std::make_unique<FieldsWriter>(model_, work_dir_);
   // A run that stops before its first step converges still reports the three groups (empty).
   final_values_ = {{"probes", nlohmann::json::object()},
                    {"reactions", nlohmann::json::object()},
@@ -301,9 +305,8 @@ void ResultWriter::abandon() {
   finished_ = true;
 }
 
-void ResultWriter::step_done(const StepReport& report, const State& state,
-                             const RecoveredFields& fields) {
-  const auto& nodal_stress = fields.nodal_stress;
+void ResultWriter::write_history(const StepReport& report, const State& state,
+                                 const RecoveredFields& fields) {
   const auto reactions = region_reactions(model_, state);
 
   // history.csv and the values the summary reports
@@ -387,22 +390,137 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
                                   errno ? std::strerror(errno) : "the stream failed"));
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
   if (model_.has_heat()) final_values_["heat_flows"] = heat_json;
+}
 
-  if (!report.write_fields) return;
+void ResultWriter::step_done(const StepReport& report, const State& state,
+                             const RecoveredFields& fields) {
+  // The fields' writing is collective on several ranks: a history that cannot be written must
+  // not keep root from it.
+  std::exception_ptr history_failure;
+  try {
+    write_history(report, state, fields);
+  } catch (const OutputError&) {
+    history_failure = std::current_exception();
+  }
+  if (!report.write_fields) {
+    if (history_failure) std::rethrow_exception(history_failure);
+    return;
+  }
+  const std::string file = fields_->write(report, state, fields);
+  if (history_failure) std::rethrow_exception(history_failure);
+  pvd_->add(report.time, file);
+}
 
-  // Fields
+FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
+    : model_(model), dir_(std::move(dir)), pieces_(par::size() > 1) {
+  if (!pieces_) return;
+  // The piece: the cells whose points this rank holds, and the nodes they touch in the order
+  // they are met.
+  const Mesh& mesh = model_.mesh();
+  std::vector<int> local(mesh.n_nodes(), -1);
+  for (int e = 0; e < mesh.cells.size(); ++e) {
+    if (!model_.holds_points(e)) continue;
+    cells_.push_back(e);
+    std::vector<int> conn;
+    for (int n : mesh.cells.nodes(e)) {
+      if (local[n] < 0) {
+        local[n] = static_cast<int>(nodes_.size());
+        nodes_.push_back(n);
+      }
+      conn.push_back(local[n]);
+    }
+    cell_set_.add(mesh.cells.type[e], conn, mesh.cells.tag[e]);
+  }
+  for (int n : nodes_) {
+    x_.push_back(mesh.x[n]);
+    node_tag_.push_back(mesh.node_tag[n]);
+  }
+  cell_tag_ = cell_set_.tag;
+}
+
+std::string FieldsWriter::write(const StepReport& report, const State& state,
+                                const RecoveredFields& fields) {
+  const std::string stem = fmt::format("step_{:04d}", report.step);
+  if (!pieces_) {
+    write_file(dir_ / (stem + ".vtu"), state, fields, nullptr, nullptr);
+    return stem + ".vtu";
+  }
+  // Every rank with cells writes its piece into step_NNNN/; root then lists them.
+  const int ranks = par::size(), rank = par::rank();
+  std::vector<double> has_cells(ranks, 0.0);
+  has_cells[rank] = cells_.empty() ? 0.0 : 1.0;
+  par::sum_in_place(has_cells);
+  std::vector<VtuField> point_fields, cell_fields;
+  std::string failure;
+  try {
+    const fs::path folder = dir_ / stem;
+    std::error_code ec;
+    fs::create_directories(folder, ec);  // several ranks at once: one creates it
+    if (ec && !fs::is_directory(folder))
+      throw OutputError(fmt::format("cannot create {}: {}", folder.string(), ec.message()));
+    if (!cells_.empty())
+      write_file(folder / fmt::format("rank_{}.vtu", rank), state, fields, &point_fields,
+                 &cell_fields);
+  } catch (const OutputError& e) {
+    failure = e.what();
+  }
+  const std::vector<std::string> failures = par::gather_strings(failure);
+  if (par::any(!failure.empty())) {
+    std::string why;
+    for (std::size_t r = 0; r < failures.size(); ++r)
+      if (!failures[r].empty())
+        why += fmt::format("{}rank {}: {}", why.empty() ? "" : "; ", r, failures[r]);
+    throw OutputError(why.empty() ? std::string("another rank could not write its fields") : why);
+  }
+  if (!par::root()) return {};
+  if (cells_.empty())  // root writes the list whether or not it holds cells
+    write_file({}, state, fields, &point_fields, &cell_fields);
+  std::vector<std::string> pieces;
+  for (int r = 0; r < ranks; ++r)
+    if (has_cells[r] > 0) pieces.push_back(fmt::format("{}/rank_{}.vtu", stem, r));
+  const VtuIntField int_fields[] = {{"material", {}}, {"region", {}}};
+  write_pvtu(dir_ / (stem + ".pvtu"), point_fields, cell_fields, int_fields, true, pieces);
+  return stem + ".pvtu";
+}
+
+void FieldsWriter::write_file(const fs::path& path, const State& state,
+                              const RecoveredFields& fields,
+                              std::vector<VtuField>* point_fields_out,
+                              std::vector<VtuField>* cell_fields_out) {
   const auto& mesh = model_.mesh();
-  const int n = mesh.n_nodes(), n_cells = mesh.cells.size();
+  const bool whole = !pieces_;
+  const int n = whole ? mesh.n_nodes() : static_cast<int>(nodes_.size()),
+            n_cells = whole ? mesh.cells.size() : static_cast<int>(cells_.size());
+  const auto node = [&](int i) { return whole ? i : nodes_[i]; };
+  const auto cell = [&](int i) { return whole ? i : cells_[i]; };
+  // A nodal array of the whole model (`width` values a node), as the piece's: itself when whole.
+  std::deque<std::vector<double>> gathered;  // stable addresses for the spans
+  const auto at_nodes = [&](std::span<const double> v, int width) -> std::span<const double> {
+    if (whole || v.empty()) return v;
+    auto& out = gathered.emplace_back(static_cast<std::size_t>(width) * n);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < width; ++k)
+        out[width * i + k] = v[static_cast<std::size_t>(width) * node(i) + k];
+    return out;
+  };
+  const auto at_cells = [&](const std::vector<double>& v) -> std::span<const double> {
+    if (whole) return v;
+    auto& out = gathered.emplace_back(n_cells);
+    for (int i = 0; i < n_cells; ++i) out[i] = v[cell(i)];
+    return out;
+  };
+  const auto& nodal_stress = fields.nodal_stress;
   std::vector<double> stress(6 * n), vm(n), cell_stress(6 * n_cells);
   for (int i = 0; i < n; ++i) {
-    for (int c = 0; c < 6; ++c) stress[6 * i + c] = nodal_stress[i][paraview_order[c]];
-    vm[i] = von_mises(nodal_stress[i]);
+    for (int c = 0; c < 6; ++c) stress[6 * i + c] = nodal_stress[node(i)][paraview_order[c]];
+    vm[i] = von_mises(nodal_stress[node(i)]);
   }
   std::vector<int> material(n_cells), region(n_cells);
-  for (int e = 0; e < n_cells; ++e) {
-    for (int c = 0; c < 6; ++c) cell_stress[6 * e + c] = fields.cell_stress[e][paraview_order[c]];
-    material[e] = model_.material_index(e);
-    region[e] = mesh.cell_region[e];
+  for (int i = 0; i < n_cells; ++i) {
+    const int e = cell(i);
+    for (int c = 0; c < 6; ++c) cell_stress[6 * i + c] = fields.cell_stress[e][paraview_order[c]];
+    material[i] = model_.material_index(e);
+    region[i] = mesh.cell_region[e];
   }
   // Fields of the contract that a model without plasticity or contact holds at zero.
   zeros_.assign(6 * static_cast<std::size_t>(n), 0.0);
@@ -413,7 +531,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
     if (nodal.empty()) return out;
     out.resize(6 * static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
-      for (int c = 0; c < 6; ++c) out[6 * i + c] = tensor_component(nodal[i], c);
+      for (int c = 0; c < 6; ++c) out[6 * i + c] = tensor_component(nodal[node(i)], c);
     return out;
   };
   const std::vector<double> eps_p = tensors(fields.nodal_plastic_strain),
@@ -422,15 +540,15 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
                             eps_th = tensors(fields.nodal_thermal_strain);
   const NodalContact contact = nodal_contact(model_, state);
   const auto or_zero = [&](const std::vector<double>& v) {
-    return v.empty() ? zero1 : std::span<const double>(v);
+    return v.empty() ? zero1 : at_nodes(v, 1);
   };
   const std::vector<double> heat_flux =
       model_.has_heat() ? nodal_heat_flux(model_, state.nodal_temperature) : std::vector<double>();
   std::vector<VtuField> point_fields = {
-      {"displacement", 3, state.u},
+      {"displacement", 3, at_nodes(state.u, 3)},
       {"stress", 6, stress},
       {"von_mises", 1, vm},
-      {"temperature", 1, state.nodal_temperature},
+      {"temperature", 1, at_nodes(state.nodal_temperature, 1)},
       {"plastic_strain", 6, eps_p.empty() ? zero6 : std::span<const double>(eps_p)},
       {"equivalent_plastic_strain", 1, or_zero(fields.nodal_eps_p_eq)},
       {"contact_pressure", 1, or_zero(contact.pressure)},
@@ -442,15 +560,26 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
       {"thermal_strain", 6, eps_th},
       {"equivalent_elastoplastic_strain", 1, or_zero(fields.nodal_eps_ep)},
   };
-  if (model_.has_heat()) point_fields.push_back({"heat_flux", 3, heat_flux});  // issue 18
-  const VtuField cell_fields[] = {{"stress", 6, cell_stress},
-                                  {"von_mises", 1, fields.cell_von_mises},
-                                  {"equivalent_plastic_strain", 1, fields.cell_eps_p_eq},
-                                  {"plastic_zone", 1, fields.cell_plastic_zone}};
+  if (model_.has_heat())
+    point_fields.push_back({"heat_flux", 3, at_nodes(heat_flux, 3)});  // issue 18
+  std::vector<VtuField> cell_fields = {
+      {"stress", 6, cell_stress},
+      {"von_mises", 1, at_cells(fields.cell_von_mises)},
+      {"equivalent_plastic_strain", 1, at_cells(fields.cell_eps_p_eq)},
+      {"plastic_zone", 1, at_cells(fields.cell_plastic_zone)}};
   const VtuIntField int_fields[] = {{"material", material}, {"region", region}};
-  const std::string name = fmt::format("step_{:04d}.vtu", report.step);
-  write_vtu(work_dir_ / name, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);
-  pvd_->add(report.time, name);
+  if (!path.empty()) {
+    if (whole)
+      write_vtu(path, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);
+    else
+      write_vtu(path, x_, cell_set_, point_fields, cell_fields, int_fields,
+                VtuGlobalIds{node_tag_, cell_tag_});
+  }
+  // The names and widths, for root's .pvtu (the data's spans die here).
+  if (point_fields_out)
+    for (const auto& f : point_fields) point_fields_out->push_back({f.name, f.n_components, {}});
+  if (cell_fields_out)
+    for (const auto& f : cell_fields) cell_fields_out->push_back({f.name, f.n_components, {}});
 }
 
 namespace {
@@ -461,11 +590,12 @@ void link_or_copy(const fs::path& from, const fs::path& to) {
   if (ec) fs::copy_file(from, to, fs::copy_options::overwrite_existing);
 }
 
-/// The step number of a fields file "step_NNNN.vtu" (-1 for another name).
+/// The step number of a fields file "step_NNNN.vtu" or "step_NNNN.pvtu" (-1 for another name).
 int step_of_file(const std::string& name) {
   int step = -1;
   char tail[8] = {};
-  if (std::sscanf(name.c_str(), "step_%d.%4s", &step, tail) != 2 || std::string(tail) != "vtu")
+  if (std::sscanf(name.c_str(), "step_%d.%5s", &step, tail) != 2 ||
+      (std::string(tail) != "vtu" && std::string(tail) != "pvtu"))
     return -1;
   return step;
 }
@@ -506,6 +636,13 @@ std::vector<CheckpointEntry> ResultWriter::continue_from(
       const int step = step_of_file(file);
       if (step < 1 || step > steps || !fs::exists(old / file)) continue;
       link_or_copy(old / file, work_dir_ / file);
+      // A run on several ranks: the pieces in step_NNNN/, whatever the ranks of this run.
+      const fs::path pieces = old / fs::path(file).stem();
+      if (fs::path(file).extension() == ".pvtu" && fs::is_directory(pieces)) {
+        fs::create_directory(work_dir_ / pieces.filename());
+        for (const auto& piece : fs::directory_iterator(pieces))
+          link_or_copy(piece.path(), work_dir_ / pieces.filename() / piece.path().filename());
+      }
       series.emplace_back(std::strtod(line.c_str() + t + 10, nullptr), file);
     }
     pvd_->adopt(std::move(series));

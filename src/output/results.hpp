@@ -75,6 +75,48 @@ void check_output_dir(const std::filesystem::path& dir, const SourceLocation& wh
 void check_output_space(const Model& model, const std::filesystem::path& dir,
                         const SourceLocation& where, Log& log);
 
+/// The fields files of the written steps. On one rank, step_NNNN.vtu: the whole mesh. On
+/// several, one piece per rank, step_NNNN/rank_R.vtu: the cells whose integration points the
+/// rank holds and the nodes they touch, with their Gmsh numbers (node_tag, element_tag: VTK's
+/// GlobalIds), and root's step_NNNN.pvtu that lists the pieces. Collective on several ranks.
+class FieldsWriter {
+ public:
+  FieldsWriter(const Model& model, std::filesystem::path dir);
+  /// Writes the step's fields into the directory; returns the file results.pvd lists (on
+  /// root). A rank that cannot write its piece is an OutputError on every rank, naming it.
+  std::string write(const StepReport& report, const State& state, const RecoveredFields& fields);
+
+ private:
+  void write_file(const std::filesystem::path& path, const State& state,
+                  const RecoveredFields& fields, std::vector<VtuField>* point_fields_out,
+                  std::vector<VtuField>* cell_fields_out);
+  const Model& model_;
+  std::filesystem::path dir_;
+  bool pieces_ = false;
+  // This rank's piece (several ranks): global numbers of its cells and nodes, its cells with
+  // local node numbers, the nodes' coordinates and the Gmsh tags of both.
+  std::vector<int> cells_, nodes_;
+  CellSet cell_set_;
+  std::vector<Vec3> x_;
+  std::vector<long> node_tag_, cell_tag_;
+  std::vector<std::string> piece_files_;  ///< root: "rank_R.vtu" of the ranks with cells
+  std::vector<double> zeros_;
+};
+
+/// The observer of every rank but root on several ranks: its piece of the fields files in
+/// root's work directory (`dir`, broadcast by the caller).
+class PieceWriter final : public StepObserver {
+ public:
+  PieceWriter(const Model& model, std::filesystem::path dir) : fields_(model, std::move(dir)) {}
+  void step_done(const StepReport& report, const State& state,
+                 const RecoveredFields& fields) override {
+    if (report.write_fields) fields_.write(report, state, fields);
+  }
+
+ private:
+  FieldsWriter fields_;
+};
+
 class ResultWriter final : public StepObserver {
  public:
   /// Creates the work directory next to `final_dir` and starts history.csv, hencky.log and
@@ -104,13 +146,14 @@ class ResultWriter final : public StepObserver {
   const nlohmann::json& final_values() const { return final_values_; }
 
  private:
+  void write_history(const StepReport& report, const State& state, const RecoveredFields& fields);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;
   std::ofstream history_;
   std::unique_ptr<PvdWriter> pvd_;
+  std::unique_ptr<FieldsWriter> fields_;
   nlohmann::json final_values_;
-  std::vector<double> zeros_;
   std::string header_;  ///< history.csv's first line
   bool finished_ = false;
 };

@@ -230,8 +230,8 @@ int vtk_cell_type(CellType t) {
 
 void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
                const CellSet& cells, std::span<const VtuField> point_fields,
-               std::span<const VtuField> cell_fields,
-               std::span<const VtuIntField> cell_int_fields) {
+               std::span<const VtuField> cell_fields, std::span<const VtuIntField> cell_int_fields,
+               const VtuGlobalIds& ids) {
   const std::size_t n_points = points.size();
   const std::size_t n_cells = static_cast<std::size_t>(cells.size());
 
@@ -246,6 +246,13 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
       throw std::invalid_argument("vtu writer: cell field '" + f.name + "' has " +
                                   std::to_string(f.data.size()) + " values, expected " +
                                   std::to_string(n_cells));
+  static_assert(sizeof(long) == sizeof(std::int64_t), "Gmsh tags are written as Int64");
+  if (!ids.nodes.empty() && ids.nodes.size() != n_points)
+    throw std::invalid_argument("vtu writer: " + std::to_string(ids.nodes.size()) +
+                                " node ids for " + std::to_string(n_points) + " points");
+  if (!ids.cells.empty() && ids.cells.size() != n_cells)
+    throw std::invalid_argument("vtu writer: " + std::to_string(ids.cells.size()) +
+                                " cell ids for " + std::to_string(n_cells) + " cells");
 
   // ---- XML header, with the offsets of the appended blocks ----
   const std::uint64_t n_conn = cells.conn.size();
@@ -257,14 +264,19 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
   xml += byte_order();
   xml += "\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" +
          std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) + "\">\n";
-  xml += "      <PointData>\n";
+  xml += ids.nodes.empty() ? "      <PointData>\n" : "      <PointData GlobalIds=\"node_tag\">\n";
   for (const auto& f : point_fields)
     data_array(xml, offset, "Float64", f.name, f.n_components, f.data.size() * sizeof(double));
-  xml += "      </PointData>\n      <CellData>\n";
+  if (!ids.nodes.empty())
+    data_array(xml, offset, "Int64", "node_tag", 1, n_points * sizeof(std::int64_t));
+  xml += "      </PointData>\n";
+  xml += ids.cells.empty() ? "      <CellData>\n" : "      <CellData GlobalIds=\"element_tag\">\n";
   for (const auto& f : cell_fields)
     data_array(xml, offset, "Float64", f.name, f.n_components, f.data.size() * sizeof(double));
   for (const auto& f : cell_int_fields)
     data_array(xml, offset, "Int32", f.name, 1, f.data.size() * sizeof(std::int32_t));
+  if (!ids.cells.empty())
+    data_array(xml, offset, "Int64", "element_tag", 1, n_cells * sizeof(std::int64_t));
   xml += "      </CellData>\n      <Points>\n";
   data_array(xml, offset, "Float64", "Points", 3, n_points * 3 * sizeof(double));
   xml += "      </Points>\n      <Cells>\n";
@@ -284,9 +296,11 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
     out.write(p, n_bytes);
   };
   for (const auto& f : point_fields) block(f.data.data(), f.data.size() * sizeof(double));
+  if (!ids.nodes.empty()) block(ids.nodes.data(), n_points * sizeof(std::int64_t));
   for (const auto& f : cell_fields) block(f.data.data(), f.data.size() * sizeof(double));
   static_assert(sizeof(int) == sizeof(std::int32_t));
   for (const auto& f : cell_int_fields) block(f.data.data(), f.data.size() * sizeof(std::int32_t));
+  if (!ids.cells.empty()) block(ids.cells.data(), n_cells * sizeof(std::int64_t));
   block(points.data(), n_points * 3 * sizeof(double));
 
   // Connectivity, permuted to VTK's node order; node indices are checked on the way.
@@ -314,6 +328,39 @@ void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
   for (std::size_t c = 0; c < n_cells; ++c) out.put<std::uint8_t>(info(cells.type[c]).vtk_type);
 
   out.write("\n  </AppendedData>\n</VTKFile>\n");
+  out.commit();
+}
+
+void write_pvtu(const std::filesystem::path& path, std::span<const VtuField> point_fields,
+                std::span<const VtuField> cell_fields, std::span<const VtuIntField> cell_int_fields,
+                bool with_ids, std::span<const std::string> pieces) {
+  auto array = [](std::string& xml, const char* type, const std::string& name, int n_components) {
+    xml += "      <PDataArray type=\"";
+    xml += type;
+    xml += "\" Name=\"" + xml_escape(name) + "\"";
+    if (n_components != 1) xml += " NumberOfComponents=\"" + std::to_string(n_components) + "\"";
+    xml += "/>\n";
+  };
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
+      "byte_order=\"";
+  xml += byte_order();
+  xml += "\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  xml += with_ids ? "    <PPointData GlobalIds=\"node_tag\">\n" : "    <PPointData>\n";
+  for (const auto& f : point_fields) array(xml, "Float64", f.name, f.n_components);
+  if (with_ids) array(xml, "Int64", "node_tag", 1);
+  xml += "    </PPointData>\n";
+  xml += with_ids ? "    <PCellData GlobalIds=\"element_tag\">\n" : "    <PCellData>\n";
+  for (const auto& f : cell_fields) array(xml, "Float64", f.name, f.n_components);
+  for (const auto& f : cell_int_fields) array(xml, "Int32", f.name, 1);
+  if (with_ids) array(xml, "Int64", "element_tag", 1);
+  xml += "    </PCellData>\n    <PPoints>\n";
+  array(xml, "Float64", "Points", 3);
+  xml += "    </PPoints>\n";
+  for (const auto& p : pieces) xml += "    <Piece Source=\"" + xml_escape(p) + "\"/>\n";
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  AtomicFile out(path);
+  out.write(xml);
   out.commit();
 }
 

@@ -30,6 +30,14 @@ struct VtuIntField {
   std::span<const int> data;
 };
 
+/// The global numbers of a piece's points and cells (the Gmsh node and element tags), written as
+/// Int64 arrays "node_tag" and "element_tag" and declared as VTK's GlobalIds: a node shared by
+/// two pieces has the same number in both, so that ParaView (and a script) can tell the copies.
+/// Empty spans: not written.
+struct VtuGlobalIds {
+  std::span<const long> nodes, cells;
+};
+
 /// Writes an UnstructuredGrid .vtu (format version 1.0, raw binary appended data,
 /// header_type UInt64, native byte order): Float64 points and fields, Int64 connectivity and
 /// offsets, UInt8 cell types. Cells may mix types; their nodes are in Gmsh order and are
@@ -40,7 +48,14 @@ struct VtuIntField {
 void write_vtu(const std::filesystem::path& path, std::span<const Vec3> points,
                const CellSet& cells, std::span<const VtuField> point_fields,
                std::span<const VtuField> cell_fields,
-               std::span<const VtuIntField> cell_int_fields = {});
+               std::span<const VtuIntField> cell_int_fields = {}, const VtuGlobalIds& ids = {});
+
+/// Writes a parallel .pvtu (PUnstructuredGrid) that lists `pieces` (.vtu files written by
+/// write_vtu with the same fields and ids, paths relative to the .pvtu's directory). The fields'
+/// names and component counts are used, their data is not. Atomic like write_vtu.
+void write_pvtu(const std::filesystem::path& path, std::span<const VtuField> point_fields,
+                std::span<const VtuField> cell_fields, std::span<const VtuIntField> cell_int_fields,
+                bool with_ids, std::span<const std::string> pieces);
 
 /// A ParaView collection (.pvd) of time steps: <DataSet timestep="t" file="step.vtu"/>.
 /// The .pvd is rewritten (atomically, via a .tmp file and a rename) after each add(), so an

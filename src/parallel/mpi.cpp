@@ -122,6 +122,14 @@ void broadcast(std::span<double> v) {
   if (size() > 1) MPI_Bcast(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, 0, comm());
 }
 
+void broadcast(std::string& s) {
+  if (size() == 1) return;
+  int n = static_cast<int>(s.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm());
+  s.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(s.data(), n, MPI_CHAR, 0, comm());
+}
+
 std::vector<std::string> gather_strings(const std::string& s) {
   if (size() == 1) return {s};
   const int p = size();

@@ -54,6 +54,7 @@ bool any(bool x);
 /// Root's values to every rank.
 void broadcast(std::span<int> v);
 void broadcast(std::span<double> v);
+void broadcast(std::string& s);
 /// Every rank's string, on root (in rank order); empty elsewhere.
 std::vector<std::string> gather_strings(const std::string& s);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).

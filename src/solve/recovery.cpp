@@ -83,10 +83,15 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
       c[8] += static_cast<double>(state.flowing[p]);
     }
   }
-  par::sum_to_root(std::span<double>(nodal));
-  if (with_cells) par::sum_to_root(std::span<double>(cells));
+  // On an output step every rank writes the piece of its own cells (ResultWriter), and needs
+  // the nodal averages of their nodes, ghost nodes included: the sums go to every rank. A cell's
+  // means are its rank's alone.
+  if (with_cells)
+    par::sum_in_place(std::span<double>(nodal));
+  else
+    par::sum_to_root(std::span<double>(nodal));
   RecoveredFields f;
-  if (!par::root()) return f;
+  if (!par::root() && !with_cells) return f;
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
   for (auto* t : tensors) t->assign(n_nodes, Voigt::Zero());

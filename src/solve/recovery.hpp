@@ -1,7 +1,7 @@
 #pragma once
 // The integration-point values of a converged step brought to the nodes and the cells, for
 // the outputs (fields, probes). On several MPI ranks each rank holds only its own cells'
-// points (Model::hold_points): each computes its cells' share and root receives the sums.
+// points (Model::hold_points): each computes its cells' share, and the nodes' sums are reduced.
 #include <vector>
 
 #include "solve/analysis.hpp"
@@ -27,9 +27,11 @@ struct RecoveredFields {
   std::vector<double> cell_von_mises, cell_eps_p_eq, cell_plastic_zone;
 };
 
-/// Collective over the ranks: root gets the fields of the whole model, the other ranks empty
-/// vectors. On one rank, the fields of `state`. The cells' fields only `with_cells` (the
-/// probes of every step need the nodal ones; the cells' are written on output steps only).
+/// Collective over the ranks. On one rank, the fields of `state`. The cells' fields only
+/// `with_cells` (the probes of every step need the nodal ones; the cells' are written on output
+/// steps only). On several ranks: with_cells, every rank gets the nodal fields of the whole
+/// model and the cells' fields of its own cells (zero elsewhere), for its piece of the output;
+/// without, root gets the nodal fields and the other ranks empty vectors.
 RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells = true);
 
 }  // namespace hencky

@@ -90,7 +90,7 @@ class StepObserver {
   virtual ~StepObserver() = default;
   /// Called on every rank after every converged step with the committed state (this rank's
   /// integration points) and the point values recovered to the nodes, and to the cells when
-  /// report.write_fields (whole on root, empty on the other ranks).
+  /// report.write_fields (recover_fields, solve/recovery.hpp, says what each rank gets).
   virtual void step_done(const StepReport& report, const State& state,
                          const RecoveredFields& fields) = 0;
 };

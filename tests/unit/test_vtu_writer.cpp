@@ -584,5 +584,74 @@ TEST_F(VtuWriter, LargeMeshIsWrittenInOnePass) {
             static_cast<std::int64_t>(cells.conn.size()));
 }
 
+// Two pieces of a strip of two hexahedra, sharing the face of nodes 4..7 (numbered 1004..1007),
+// with their Gmsh numbers, and the .pvtu that lists them: the ids are Int64 arrays declared as
+// VTK's GlobalIds, the .pvtu declares every array of the pieces with its type and width.
+TEST_F(VtuWriter, PiecesWithGlobalIdsAndTheirPvtu) {
+  std::vector<Vec3> x;
+  for (int k = 0; k < 3; ++k)
+    for (auto [a, b] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) x.emplace_back(a, b, k);
+  const std::vector<std::array<int, 8>> global{{0, 1, 2, 3, 4, 5, 6, 7},
+                                               {4, 5, 6, 7, 8, 9, 10, 11}};
+  std::vector<std::string> pieces;
+  for (int piece = 0; piece < 2; ++piece) {
+    // The piece's nodes, numbered locally 0..7, and their global numbers.
+    std::vector<Vec3> px;
+    std::vector<long> node_tag;
+    for (int g : global[piece]) {
+      px.push_back(x[g]);
+      node_tag.push_back(1000 + g);
+    }
+    CellSet cells;
+    const std::array<int, 8> local{0, 1, 2, 3, 4, 5, 6, 7};
+    cells.add(CellType::hex8, local, 500 + piece);
+    const std::vector<long> cell_tag{500 + piece};
+    std::vector<double> u(3 * px.size());
+    for (std::size_t i = 0; i < px.size(); ++i)
+      for (int d = 0; d < 3; ++d) u[3 * i + d] = 0.1 * px[i][d];
+    const std::vector<double> s{1.0 + piece};
+    const std::vector<int> region{piece};
+    const std::vector<VtuField> pf{{"displacement", 3, u}}, cf{{"von_mises", 1, s}};
+    const std::vector<VtuIntField> cif{{"region", region}};
+    const std::string name = "piece_" + std::to_string(piece) + ".vtu";
+    write_vtu(dir_ / name, px, cells, pf, cf, cif, VtuGlobalIds{node_tag, cell_tag});
+    pieces.push_back(name);
+    const VtuRead r = read_vtu(dir_ / name);
+    EXPECT_EQ(r.arrays.at("PointData/node_tag").type, "Int64");
+    EXPECT_EQ(r.arrays.at("PointData/node_tag").as<std::int64_t>(),
+              std::vector<std::int64_t>(node_tag.begin(), node_tag.end()));
+    EXPECT_EQ(r.arrays.at("CellData/element_tag").as<std::int64_t>(),
+              std::vector<std::int64_t>{500 + piece});
+    EXPECT_EQ(r.arrays.at("PointData/displacement").as<double>(), u);
+    const std::string text = read_all(dir_ / name);
+    EXPECT_NE(text.find("<PointData GlobalIds=\"node_tag\">"), std::string::npos);
+    EXPECT_NE(text.find("<CellData GlobalIds=\"element_tag\">"), std::string::npos);
+  }
+  // A node id count that does not match the points is refused.
+  CellSet one;
+  one.add(CellType::hex8, std::array<int, 8>{0, 1, 2, 3, 4, 5, 6, 7}, 1);
+  const std::vector<long> three{1, 2, 3};
+  EXPECT_THROW(write_vtu(dir_ / "bad.vtu", std::span<const Vec3>(x.data(), 8), one, {}, {}, {},
+                         VtuGlobalIds{three, {}}),
+               std::invalid_argument);
+
+  const std::vector<VtuField> pf{{"displacement", 3, {}}}, cf{{"von_mises", 1, {}}};
+  const std::vector<VtuIntField> cif{{"region", {}}};
+  write_pvtu(dir_ / "both.pvtu", pf, cf, cif, true, pieces);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "both.pvtu.tmp"));
+  const std::string p = read_all(dir_ / "both.pvtu");
+  for (const char* expected :
+       {"<VTKFile type=\"PUnstructuredGrid\"", "<PUnstructuredGrid GhostLevel=\"0\">",
+        "<PPointData GlobalIds=\"node_tag\">",
+        "<PDataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"/>",
+        "<PDataArray type=\"Int64\" Name=\"node_tag\"/>", "<PCellData GlobalIds=\"element_tag\">",
+        "<PDataArray type=\"Float64\" Name=\"von_mises\"/>",
+        "<PDataArray type=\"Int32\" Name=\"region\"/>",
+        "<PDataArray type=\"Int64\" Name=\"element_tag\"/>",
+        "<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>",
+        "<Piece Source=\"piece_0.vtu\"/>\n    <Piece Source=\"piece_1.vtu\"/>"})
+    EXPECT_NE(p.find(expected), std::string::npos) << expected << "\n" << p;
+}
+
 }  // namespace
 }  // namespace hencky

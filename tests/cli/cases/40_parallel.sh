@@ -19,6 +19,32 @@ same() {
   if out="$("$ex_py" "$cmp_py" "$2" "$3" "$4" --fields "$5" 2>&1)"; then ok "$1"
   else bad "$1" "$out"; fi
 }
+# pieces NAME DIR NP: DIR (a run on NP ranks) lists a .pvtu per written step in results.pvd, each
+# with NP pieces step_NNNN/rank_R.vtu that exist, hold every element once and every node at
+# least once (by their Gmsh numbers, element_tag and node_tag; summary.json's counts).
+pieces() {
+  local out
+  if out="$("$ex_py" - "$2" "$3" "$cmp_py" 2>&1 <<'PY'
+import json, re, sys, xml.etree.ElementTree as ET
+from pathlib import Path
+import numpy as np
+sys.path.insert(0, str(Path(sys.argv[3]).parent))
+from compare_results import read_vtu
+d, np_ = Path(sys.argv[1]), int(sys.argv[2])
+s = json.load(open(d / "summary.json"))
+files = re.findall(r'file="([^"]+)"', (d / "results.pvd").read_text())
+assert files and all(f.endswith(".pvtu") for f in files), files
+for f in files:
+    sources = [p.get("Source") for p in ET.parse(d / f).getroot().iter("Piece")]
+    assert sources == [f"{f[:-5]}/rank_{r}.vtu" for r in range(np_)], sources
+    parts = [read_vtu(d / src) for src in sources]
+    cells = np.concatenate([p["cell.element_tag"][:, 0] for p in parts])
+    nodes = np.concatenate([p["node_tag"][:, 0] for p in parts])
+    assert len(cells) == s["elements"] == len(np.unique(cells)), (len(cells), s["elements"])
+    assert len(np.unique(nodes)) == s["nodes"] < len(nodes), (len(np.unique(nodes)), s["nodes"])
+PY
+)"; then ok "$1"; else bad "$1" "$out"; fi
+}
 # with_linear LINEAR CASE: CASE with solver.linear: LINEAR added after its 'solver:' line, as
 # CASE-LINEAR.yaml. (The default, auto, is CG + GAMG under mpirun: MUMPS needs `direct`.)
 with_linear() {
@@ -58,6 +84,9 @@ ex_check "parallel lame-cylinder: summary says 2 ranks and MUMPS" "$d/mumps2/sum
   's["ranks"] == 2 and "mumps" in s["linear_solver"]["method"] and s["peak_memory_bytes_all_ranks"] >= s["peak_memory_bytes"]'
 ex_check "parallel lame-cylinder: history.csv written once (a header and 2 steps)" \
   "$d/mumps2/history.csv" 'len(h) == 2'
+pieces "parallel lame-cylinder: 3 ranks write a .pvtu a step, with 3 pieces that hold each cell once" \
+  "$d/mumps3" 3
+pieces "parallel lame-cylinder: 2 ranks, 2 pieces" "$d/gamg2" 2
 ex_check "parallel lame-cylinder: GAMG iterates (more than one iteration a solve)" \
   "$d/gamg2/summary.json" 's["linear_solver"]["iterations"] > 2 * s["linear_solver"]["solves"]'
 # The solve's tolerance adapts to the Newton residual unless -ksp_rtol is given: then the
