@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "fem/reference_element.hpp"
+#include "parallel/mesh_part.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {
@@ -414,27 +415,16 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
 FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
     : model_(model), dir_(std::move(dir)), pieces_(par::size() > 1) {
   if (!pieces_) return;
-  // The piece: the cells whose points this rank holds, and the nodes they touch in the order
-  // they are met.
-  const Mesh& mesh = model_.mesh();
-  std::vector<int> local(mesh.n_nodes(), -1);
-  for (int e = 0; e < mesh.cells.size(); ++e) {
-    if (!model_.holds_points(e)) continue;
-    cells_.push_back(e);
-    std::vector<int> conn;
-    for (int n : mesh.cells.nodes(e)) {
-      if (local[n] < 0) {
-        local[n] = static_cast<int>(nodes_.size());
-        nodes_.push_back(n);
-      }
-      conn.push_back(local[n]);
-    }
-    cell_set_.add(mesh.cells.type[e], conn, mesh.cells.tag[e]);
-  }
-  for (int n : nodes_) {
-    x_.push_back(mesh.x[n]);
-    node_tag_.push_back(mesh.node_tag[n]);
-  }
+  // The piece: this rank's part of the mesh, its own cells and the nodes they touch (its own,
+  // then the ghosts).
+  if (model_.partition().parts != par::size())
+    throw std::logic_error("FieldsWriter: the model is not split over the ranks");
+  MeshPart part = extract_part(model_.mesh(), model_.partition());
+  cells_ = std::move(part.global_cell);
+  nodes_ = std::move(part.global_node);
+  cell_set_ = std::move(part.mesh.cells);
+  x_ = std::move(part.mesh.x);
+  node_tag_ = std::move(part.mesh.node_tag);
   cell_tag_ = cell_set_.tag;
 }
 

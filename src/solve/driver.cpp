@@ -107,7 +107,7 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
              par::min(part.owned_cells), par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
-  if (ranks > 1 && model) model->hold_points(part.owned_cell);
+  if (ranks > 1 && model) model->set_partition(part);
   try {
     return std::make_unique<PetscSolver>(
         spec_model.mesh(), dofs, assembler, std::move(part), preset,

@@ -20,7 +20,7 @@ std::vector<std::string> describe_contact(const Model& model);
 /// rank the PETSc one (MUMPS for `direct`, CG + GAMG for `iterative`), with a log line saying
 /// so. `petsc_options` (the command line's) are added after the case's and win. On several
 /// ranks the model then holds the integration points of this rank's cells only
-/// (Model::hold_points). Collective.
+/// (Model::set_partition). Collective.
 std::unique_ptr<LinearSystem> make_run_solver(Model& model, Log& log,
                                               const std::string& petsc_options = "");
 

@@ -46,9 +46,14 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   bind_heat();
   bind_outputs();
   bind_contact();
-  hold_points(std::vector<char>(mesh_.cells.size(), 1));
+  set_partition(partition_from(mesh_, std::vector<int>(mesh_.cells.size(), 0), 1, 0));
   total_points_ = n_points();
   assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+}
+
+void Model::set_partition(Partition partition) {
+  partition_ = std::move(partition);
+  hold_points(partition_.owned_cell);
 }
 
 void Model::hold_points(const std::vector<char>& held) {

@@ -16,6 +16,7 @@
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
 #include "mesh/mesh.hpp"
+#include "parallel/partition.hpp"
 #include "spec/case.hpp"
 
 namespace hencky {
@@ -90,6 +91,10 @@ class Model {
   /// This rank stores the points of the cells with held[cell] != 0 only (the partition's own
   /// cells on several MPI ranks). Call before any State is made.
   void hold_points(const std::vector<char>& held);
+  /// The split of the mesh over the MPI ranks (one part on one rank): this rank then holds the
+  /// points of its own cells (hold_points). Call before any State is made.
+  void set_partition(Partition partition);
+  const Partition& partition() const { return partition_; }
   const MaterialModel& material_of(int cell) const { return materials_[cell_material_[cell]]; }
   int material_index(int cell) const { return cell_material_[cell]; }
   const std::vector<MaterialModel>& materials() const { return materials_; }
@@ -163,6 +168,7 @@ class Model {
   std::vector<int> cell_material_;
   std::vector<int> point_offset_;
   int total_points_ = 0;
+  Partition partition_;
   DofMap dofs_;
   std::unique_ptr<Assembler> assembler_;
   struct PrescribedDof {

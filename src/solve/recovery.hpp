@@ -1,7 +1,7 @@
 #pragma once
 // The integration-point values of a converged step brought to the nodes and the cells, for
 // the outputs (fields, probes). On several MPI ranks each rank holds only its own cells'
-// points (Model::hold_points): each computes its cells' share, and the nodes' sums are reduced.
+// points (Model::set_partition): each computes its cells' share, and the nodes' sums are reduced.
 #include <vector>
 
 #include "solve/analysis.hpp"

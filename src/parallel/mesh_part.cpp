@@ -1,0 +1,101 @@
+#include "parallel/mesh_part.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace hencky {
+
+MeshPart extract_part(const Mesh& whole, const Partition& partition) {
+  const int rank = partition.rank, n_whole = whole.n_nodes();
+  if (static_cast<int>(partition.cell_owner.size()) != whole.cells.size() ||
+      static_cast<int>(partition.node_owner.size()) != n_whole)
+    throw std::invalid_argument("extract_part: the partition is not one of this mesh");
+  MeshPart part;
+  // Each node's index among its owner's own nodes (the whole mesh's order).
+  std::vector<int> index_at_owner(n_whole), counter(partition.parts, 0);
+  for (int n = 0; n < n_whole; ++n) index_at_owner[n] = counter[partition.node_owner[n]]++;
+
+  // The nodes of the rank's cells: owned ones first, then the ghosts, each in global order.
+  std::vector<char> touched(n_whole, 0);
+  for (int c = 0; c < whole.cells.size(); ++c)
+    if (partition.cell_owner[c] == rank)
+      for (int n : whole.cells.nodes(c)) touched[n] = 1;
+  // A node of no cell (a stray node) is owned by rank 0 (partition_from): it is in rank 0's part.
+  for (int n = 0; n < n_whole; ++n)
+    if (partition.node_owner[n] == rank) touched[n] = 1;
+  std::vector<int> local(n_whole, -1);
+  for (int pass = 0; pass < 2; ++pass)
+    for (int n = 0; n < n_whole; ++n)
+      if (touched[n] && (partition.node_owner[n] == rank) == (pass == 0)) {
+        local[n] = static_cast<int>(part.global_node.size());
+        part.global_node.push_back(n);
+      }
+  part.owned_nodes = counter[rank];
+  Mesh& m = part.mesh;
+  for (int n : part.global_node) {
+    m.x.push_back(whole.x[n]);
+    m.node_tag.push_back(whole.node_tag[n]);
+    part.node_owner.push_back(partition.node_owner[n]);
+    part.owner_index.push_back(index_at_owner[n]);
+  }
+
+  std::vector<int> local_cell(whole.cells.size(), -1);
+  std::vector<int> conn;
+  for (int c = 0; c < whole.cells.size(); ++c) {
+    if (partition.cell_owner[c] != rank) continue;
+    conn.clear();
+    for (int n : whole.cells.nodes(c)) conn.push_back(local[n]);
+    local_cell[c] = m.cells.size();
+    m.cells.add(whole.cells.type[c], conn, whole.cells.tag[c]);
+    m.cell_region.push_back(whole.cell_region.empty() ? -1 : whole.cell_region[c]);
+    part.global_cell.push_back(c);
+  }
+
+  // Faces: those whose corners all lie in one of the rank's cells. The local cells at each
+  // local node (CSR) find them.
+  const int n_local = static_cast<int>(part.global_node.size());
+  std::vector<int> at_ptr(n_local + 1, 0), at_cell;
+  for (int c = 0; c < m.cells.size(); ++c)
+    for (int n : m.cells.nodes(c)) ++at_ptr[n + 1];
+  for (int n = 0; n < n_local; ++n) at_ptr[n + 1] += at_ptr[n];
+  at_cell.resize(at_ptr.back());
+  {
+    std::vector<int> fill(at_ptr.begin(), at_ptr.end() - 1);
+    for (int c = 0; c < m.cells.size(); ++c)
+      for (int n : m.cells.nodes(c)) at_cell[fill[n]++] = c;
+  }
+  std::vector<int> local_face(whole.faces.size(), -1);
+  for (int f = 0; f < whole.faces.size(); ++f) {
+    const auto nodes = whole.faces.nodes(f);
+    conn.clear();
+    for (int n : nodes) conn.push_back(local[n]);
+    if (std::find(conn.begin(), conn.end(), -1) != conn.end()) continue;
+    const int corners = cell_n_corners(whole.faces.type[f]);
+    bool on_a_cell = false;
+    for (int k = at_ptr[conn[0]]; k < at_ptr[conn[0] + 1] && !on_a_cell; ++k) {
+      const auto cn = m.cells.nodes(at_cell[k]);
+      on_a_cell = true;
+      for (int a = 1; a < corners && on_a_cell; ++a)
+        on_a_cell = std::find(cn.begin(), cn.end(), conn[a]) != cn.end();
+    }
+    if (!on_a_cell) continue;
+    local_face[f] = m.faces.size();
+    m.faces.add(whole.faces.type[f], conn, whole.faces.tag[f]);
+    part.global_face.push_back(f);
+  }
+
+  for (const Region& r : whole.regions) {
+    Region& p = m.regions.emplace_back();
+    p.name = r.name;
+    p.dim = r.dim;
+    const std::vector<int>& to_local = r.dim == 3 ? local_cell : local_face;
+    for (int e : r.cells)
+      if (to_local[e] >= 0) p.cells.push_back(to_local[e]);
+    for (int n : r.nodes)
+      if (local[n] >= 0) p.nodes.push_back(local[n]);
+    std::sort(p.nodes.begin(), p.nodes.end());
+  }
+  return part;
+}
+
+}  // namespace hencky

@@ -1,0 +1,101 @@
+// The ghost exchange of a distributed mesh (parallel/node_exchange.hpp). Run as part of the unit
+// tests on one process, and on 3 MPI ranks by ctest's mpi_node_exchange (mpirun -np 3
+// hencky_tests --gtest_filter='NodeExchange.*'): every rank reads the same box, takes its part
+// under the same METIS split, and exchanges. The sums are checked against the whole mesh: a
+// vector "assembled" from each rank's cells (1 for every cell at a node) must give every copy
+// of a node the number of cells around it in the whole mesh.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "input/gmsh_reader.hpp"
+#include "parallel/mpi.hpp"
+#include "parallel/node_exchange.hpp"
+#include "verify_support.hpp"
+
+using namespace hencky;
+using namespace hencky::verify;
+
+namespace {
+
+struct Distributed {
+  Mesh whole;
+  MeshPart part;
+};
+
+Distributed distributed_box() {
+  par::ensure_petsc();
+  TempDir dir("node_exchange");
+  write_file(dir / "box.geo", box_geo(2, 1, 1, 0.25));
+  MeshReadOptions opt;
+  opt.order = 2;
+  Distributed d;
+  d.whole = read_gmsh(dir / "box.geo", opt);
+  const int ranks = par::size();
+  d.part = extract_part(d.whole, partition_from(d.whole, split_cells(d.whole, ranks), ranks,
+                                                par::rank()));
+  return d;
+}
+
+/// A value of global node g, component k.
+double value_of(int g, int k) {
+  return 1000.0 * g + k + 0.25;
+}
+
+TEST(NodeExchange, GhostsTakeTheirOwnersValues) {
+  const Distributed d = distributed_box();
+  const MeshPart& p = d.part;
+  const NodeExchange exchange(p);
+  const int n = p.mesh.n_nodes();
+  EXPECT_EQ(exchange.local_nodes(), n);
+  EXPECT_EQ(exchange.owned_nodes(), p.owned_nodes);
+  if (par::size() > 1) {
+    EXPECT_GT(par::sum(static_cast<long long>(n - p.owned_nodes)), 0);  // there are ghosts
+  }
+  for (int width : {1, 3}) {
+    std::vector<double> v(static_cast<std::size_t>(width) * n,
+                          std::numeric_limits<double>::quiet_NaN());
+    for (int i = 0; i < p.owned_nodes; ++i)
+      for (int k = 0; k < width; ++k) v[width * i + k] = value_of(p.global_node[i], k);
+    exchange.to_ghosts(v, width);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < width; ++k)
+        ASSERT_EQ(v[width * i + k], value_of(p.global_node[i], k))
+            << "rank " << par::rank() << " local node " << i << " of " << n;
+  }
+}
+
+TEST(NodeExchange, SumsGiveEveryCopyTheWholeMeshsTotal) {
+  const Distributed d = distributed_box();
+  const MeshPart& p = d.part;
+  const NodeExchange exchange(p);
+  const int n = p.mesh.n_nodes();
+  std::vector<int> cells_at(d.whole.n_nodes(), 0);
+  for (int c = 0; c < d.whole.cells.size(); ++c)
+    for (int g : d.whole.cells.nodes(c)) ++cells_at[g];
+  // Width 2: the count, and the count times a node's own number (so that a value summed
+  // into the wrong node shows).
+  std::vector<double> v(2 * static_cast<std::size_t>(n), 0.0);
+  for (int c = 0; c < p.mesh.cells.size(); ++c)
+    for (int i : p.mesh.cells.nodes(c)) {
+      v[2 * i] += 1;
+      v[2 * i + 1] += p.global_node[i];
+    }
+  exchange.sum(v, 2);
+  for (int i = 0; i < n; ++i) {
+    const int g = p.global_node[i];
+    ASSERT_EQ(v[2 * i], cells_at[g]) << "rank " << par::rank() << " node " << g;
+    ASSERT_EQ(v[2 * i + 1], static_cast<double>(cells_at[g]) * g);
+  }
+}
+
+TEST(NodeExchange, AWrongLengthIsRefused) {
+  const Distributed d = distributed_box();
+  const NodeExchange exchange(d.part);
+  std::vector<double> v(3 * d.part.mesh.n_nodes() + 1);
+  EXPECT_THROW(exchange.to_ghosts(v, 3), std::invalid_argument);
+  EXPECT_THROW(exchange.sum(v, 0), std::invalid_argument);
+}
+
+}  // namespace
