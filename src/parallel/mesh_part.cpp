@@ -1,7 +1,12 @@
 #include "parallel/mesh_part.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
+#include <type_traits>
+
+#include "parallel/mpi.hpp"
 
 namespace hencky {
 
@@ -96,6 +101,155 @@ MeshPart extract_part(const Mesh& whole, const Partition& partition) {
     std::sort(p.nodes.begin(), p.nodes.end());
   }
   return part;
+}
+
+namespace {
+
+/// Little helpers of pack/unpack: each vector as its length, then its bytes.
+class Writer {
+ public:
+  template <class T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out_.append(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  template <class T>
+  void vector(const std::vector<T>& v) {
+    value(static_cast<std::uint64_t>(v.size()));
+    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void string(const std::string& s) {
+    value(static_cast<std::uint64_t>(s.size()));
+    out_ += s;
+  }
+  void cells(const CellSet& c) {
+    vector(c.type);
+    vector(c.offset);
+    vector(c.conn);
+    vector(c.tag);
+  }
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string_view in) : in_(in) {}
+  template <class T>
+  void value(T& v) {
+    need(sizeof(T));
+    std::memcpy(&v, in_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+  }
+  template <class T>
+  void vector(std::vector<T>& v) {
+    std::uint64_t n = 0;
+    value(n);
+    if (n > (in_.size() - at_) / sizeof(T)) fail();
+    v.resize(n);
+    // Vec3 (Eigen) is a packed triple of doubles, though not trivially copyable by its type.
+    if (n) std::memcpy(static_cast<void*>(v.data()), in_.data() + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
+  }
+  void string(std::string& s) {
+    std::uint64_t n = 0;
+    value(n);
+    need(n);
+    s.assign(in_.data() + at_, n);
+    at_ += n;
+  }
+  void cells(CellSet& c) {
+    vector(c.type);
+    vector(c.offset);
+    vector(c.conn);
+    vector(c.tag);
+  }
+  bool done() const { return at_ == in_.size(); }
+
+ private:
+  void need(std::uint64_t n) const {
+    if (n > in_.size() - at_) fail();
+  }
+  [[noreturn]] static void fail() { throw std::invalid_argument("not a packed mesh part"); }
+  std::string_view in_;
+  std::size_t at_ = 0;
+};
+
+constexpr std::uint64_t part_magic = 0x6865'6e63'6b79'7031;  // "hencky" part, version 1
+
+}  // namespace
+
+std::string pack(const MeshPart& part) {
+  Writer w;
+  w.value(part_magic);
+  const Mesh& m = part.mesh;
+  w.vector(m.x);
+  w.vector(m.node_tag);
+  w.cells(m.cells);
+  w.vector(m.cell_region);
+  w.cells(m.faces);
+  w.value(static_cast<std::uint64_t>(m.regions.size()));
+  for (const Region& r : m.regions) {
+    w.string(r.name);
+    w.value(r.dim);
+    w.vector(r.cells);
+    w.vector(r.nodes);
+  }
+  w.value(part.owned_nodes);
+  w.vector(part.global_node);
+  w.vector(part.node_owner);
+  w.vector(part.owner_index);
+  w.vector(part.global_cell);
+  w.vector(part.global_face);
+  return w.take();
+}
+
+MeshPart unpack(std::string_view bytes) {
+  Reader r(bytes);
+  std::uint64_t magic = 0;
+  r.value(magic);
+  if (magic != part_magic) throw std::invalid_argument("not a packed mesh part");
+  MeshPart part;
+  Mesh& m = part.mesh;
+  r.vector(m.x);
+  r.vector(m.node_tag);
+  r.cells(m.cells);
+  r.vector(m.cell_region);
+  r.cells(m.faces);
+  std::uint64_t n_regions = 0;
+  r.value(n_regions);
+  if (n_regions > bytes.size()) throw std::invalid_argument("not a packed mesh part");
+  m.regions.resize(n_regions);
+  for (Region& g : m.regions) {
+    r.string(g.name);
+    r.value(g.dim);
+    r.vector(g.cells);
+    r.vector(g.nodes);
+  }
+  r.value(part.owned_nodes);
+  r.vector(part.global_node);
+  r.vector(part.node_owner);
+  r.vector(part.owner_index);
+  r.vector(part.global_cell);
+  r.vector(part.global_face);
+  if (!r.done()) throw std::invalid_argument("not a packed mesh part");
+  return part;
+}
+
+MeshPart scatter_parts(const Mesh* whole, const std::vector<int>& cell_owner) {
+  const int ranks = par::size();
+  if (!par::root()) return unpack(par::receive_bytes(0));
+  if (!whole) throw std::invalid_argument("scatter_parts: root has no mesh");
+  // The node owners once; each rank's part in turn, sent and freed.
+  Partition p = partition_from(*whole, cell_owner, ranks, 0);
+  for (int r = 1; r < ranks; ++r) {
+    p.rank = r;
+    par::send_bytes(r, pack(extract_part(*whole, p)));
+  }
+  p.rank = 0;
+  return extract_part(*whole, p);
 }
 
 }  // namespace hencky

@@ -16,6 +16,8 @@
 // This is how DMPlex describes a distributed mesh too (a point SF whose leaves are the ghost
 // points and whose roots are their owners' copies), without DMPlex's topology: hencky keeps its
 // cells in Gmsh's node order (docs/parallel.md says why).
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -43,5 +45,16 @@ struct MeshPart {
 /// face in one part, a face between two ranks' cells in both. Reads arrays of the whole mesh's
 /// length: the reading rank's work before it sends the parts (transient).
 MeshPart extract_part(const Mesh& whole, const Partition& partition);
+
+/// The part as bytes and back (for sending it to its rank): unpack(pack(p)) == p.
+std::string pack(const MeshPart& part);
+/// Throws std::invalid_argument when `bytes` are not a packed part.
+MeshPart unpack(std::string_view bytes);
+
+/// The first way in of a distributed mesh: root holds the whole mesh and the owner of each cell
+/// (`whole` and `cell_owner` are read on root only), extracts each rank's part in turn, sends
+/// it and frees it; every rank returns its own part. Collective. Root's peak is the whole mesh
+/// plus one part.
+MeshPart scatter_parts(const Mesh* whole, const std::vector<int>& cell_owner);
 
 }  // namespace hencky

@@ -2,6 +2,7 @@
 
 #include <petscsys.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <stdexcept>
@@ -128,6 +129,27 @@ void broadcast(std::string& s) {
   MPI_Bcast(&n, 1, MPI_INT, 0, comm());
   s.resize(static_cast<std::size_t>(n));
   MPI_Bcast(s.data(), n, MPI_CHAR, 0, comm());
+}
+
+// In chunks of at most 1 GiB: MPI counts are ints.
+constexpr std::size_t chunk = std::size_t{1} << 30;
+
+void send_bytes(int to, std::string_view bytes) {
+  unsigned long long n = bytes.size();
+  MPI_Send(&n, 1, MPI_UNSIGNED_LONG_LONG, to, 0, comm());
+  for (std::size_t at = 0; at < bytes.size(); at += chunk)
+    MPI_Send(bytes.data() + at, static_cast<int>(std::min(chunk, bytes.size() - at)), MPI_CHAR, to,
+             0, comm());
+}
+
+std::string receive_bytes(int from) {
+  unsigned long long n = 0;
+  MPI_Recv(&n, 1, MPI_UNSIGNED_LONG_LONG, from, 0, comm(), MPI_STATUS_IGNORE);
+  std::string bytes(n, '\0');
+  for (std::size_t at = 0; at < bytes.size(); at += chunk)
+    MPI_Recv(bytes.data() + at, static_cast<int>(std::min<std::size_t>(chunk, n - at)), MPI_CHAR,
+             from, 0, comm(), MPI_STATUS_IGNORE);
+  return bytes;
 }
 
 std::vector<std::string> gather_strings(const std::string& s) {

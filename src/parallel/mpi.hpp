@@ -5,6 +5,7 @@
 // step loop calls them unconditionally.
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hencky::par {
@@ -55,6 +56,9 @@ bool any(bool x);
 void broadcast(std::span<int> v);
 void broadcast(std::span<double> v);
 void broadcast(std::string& s);
+/// Point to point: `bytes` to rank `to`, and the bytes rank `from` sends (any length).
+void send_bytes(int to, std::string_view bytes);
+std::string receive_bytes(int from);
 /// Every rank's string, on root (in rank order); empty elsewhere.
 std::vector<std::string> gather_strings(const std::string& s);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "input/gmsh_reader.hpp"
+#include "mesh_part_support.hpp"
 #include "parallel/mesh_part.hpp"
 #include "verify_support.hpp"
 
@@ -125,6 +126,22 @@ TEST_F(MeshParts, PartsPutTheWholeMeshBackTogether) {
       EXPECT_EQ(nodes, std::set<int>(wr.nodes.begin(), wr.nodes.end())) << wr.name;
     }
   }
+}
+
+TEST_F(MeshParts, APackedPartUnpacksToItself) {
+  const Mesh& whole = *mesh_;
+  const std::vector<int> owner = split_cells(whole, 3);
+  for (int rank = 0; rank < 3; ++rank) {
+    const MeshPart p = extract_part(whole, partition_from(whole, owner, 3, rank));
+    const std::string bytes = pack(p);
+    const MeshPart q = unpack(bytes);
+    EXPECT_TRUE(same_part(p, q)) << "rank " << rank;
+    // Cut short anywhere, or with a byte too many, it is refused.
+    for (std::size_t cut : {std::size_t{0}, std::size_t{7}, bytes.size() / 2, bytes.size() - 1})
+      EXPECT_THROW(unpack(std::string_view(bytes).substr(0, cut)), std::invalid_argument) << cut;
+    EXPECT_THROW(unpack(bytes + "x"), std::invalid_argument);
+  }
+  EXPECT_THROW(unpack(std::string(64, 'x')), std::invalid_argument);
 }
 
 TEST_F(MeshParts, APartitionOfAnotherMeshIsRefused) {

@@ -1,6 +1,7 @@
-// The ghost exchange of a distributed mesh (parallel/node_exchange.hpp). Run as part of the unit
-// tests on one process, and on 3 MPI ranks by ctest's mpi_node_exchange (mpirun -np 3
-// hencky_tests --gtest_filter='NodeExchange.*'): every rank reads the same box, takes its part
+// The ghost exchange of a distributed mesh (parallel/node_exchange.hpp), and the parts sent from
+// root (scatter_parts). Run as part of the unit tests on one process, and on 3 MPI ranks by
+// ctest's mpi_node_exchange (mpirun -np 3 hencky_tests
+// --gtest_filter='NodeExchange.*:PartScatter.*'): every rank reads the same box, takes its part
 // under the same METIS split, and exchanges. The sums are checked against the whole mesh: a
 // vector "assembled" from each rank's cells (1 for every cell at a node) must give every copy
 // of a node the number of cells around it in the whole mesh.
@@ -10,6 +11,7 @@
 #include <limits>
 
 #include "input/gmsh_reader.hpp"
+#include "mesh_part_support.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/node_exchange.hpp"
 #include "verify_support.hpp"
@@ -88,6 +90,18 @@ TEST(NodeExchange, SumsGiveEveryCopyTheWholeMeshsTotal) {
     ASSERT_EQ(v[2 * i], cells_at[g]) << "rank " << par::rank() << " node " << g;
     ASSERT_EQ(v[2 * i + 1], static_cast<double>(cells_at[g]) * g);
   }
+}
+
+// Root reads the mesh and sends each rank its part; every rank gets what it would extract from
+// the whole mesh itself.
+TEST(PartScatter, EveryRankReceivesItsPart) {
+  const Distributed d = distributed_box();
+  const int ranks = par::size();
+  const std::vector<int> owner = split_cells(d.whole, ranks);
+  const MeshPart received =
+      scatter_parts(par::root() ? &d.whole : nullptr, par::root() ? owner : std::vector<int>());
+  EXPECT_TRUE(same_part(received, d.part)) << "rank " << par::rank();
+  EXPECT_EQ(par::sum(static_cast<long long>(received.mesh.cells.size())), d.whole.cells.size());
 }
 
 TEST(NodeExchange, AWrongLengthIsRefused) {
