@@ -94,10 +94,12 @@ double ContactBody::initial_kappa(int i) const {
 }
 
 ContactTotals contact_totals(const ContactBody& body, const std::vector<ContactNode>& states,
-                             const std::vector<double>& u) {
+                             const std::vector<double>& u, const std::vector<int>* node_owner,
+                             int rank) {
   ContactTotals t;
   for (std::size_t i = 0; i < body.points.size(); ++i) {
     const ContactPoint& p = body.points[i];
+    if (node_owner && (*node_owner)[p.node] != rank) continue;
     const ContactNode& s = states[i];
     t.max_penetration = std::max(t.max_penetration, -s.gap);
     t.max_penetration_relative = std::max(t.max_penetration_relative, -s.gap / p.size);
@@ -110,8 +112,6 @@ ContactTotals contact_totals(const ContactBody& body, const std::vector<ContactN
   }
   return t;
 }
-
-
 
 // ---------------------------------------------------------------------------------------------
 // Contact points of a region

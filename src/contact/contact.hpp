@@ -129,9 +129,11 @@ struct ContactTotals {
   double max_penetration_relative = 0;
   double max_pressure = 0;
 };
-/// The totals of `body` for its points' states and the nodal displacements u.
+/// The totals of `body` for its points' states and the nodal displacements u. With
+/// `node_owner`: of the points whose node `rank` owns only (a rank's share, to be summed).
 ContactTotals contact_totals(const ContactBody& body, const std::vector<ContactNode>& states,
-                             const std::vector<double>& u);
+                             const std::vector<double>& u,
+                             const std::vector<int>* node_owner = nullptr, int rank = 0);
 
 /// κ = auto starts at this multiple of the stiffness tr(K_aa)/3 of the node's elements: large
 /// enough that the augmented update (3.4) removes about 90 % of the penetration per iteration,

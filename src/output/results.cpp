@@ -85,14 +85,95 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
 
 std::vector<Vec3> region_reactions(const Model& model, const State& state) {
   std::vector<Vec3> out;
+  const Partition& part = model.partition();
   for (const auto& r : model.reaction_regions()) {
     if (!r.force) continue;
     Vec3 f = Vec3::Zero();
-    for (int n : r.region->nodes)
+    for (int n : r.region->nodes) {
+      if (part.node_owner[n] != part.rank) continue;  // another rank's share
       for (int d = 0; d < 3; ++d)
         f[d] += state.f_int[3 * n + d] - state.f_ext[3 * n + d] - state.f_contact[3 * n + d];
+    }
     out.push_back(f);
   }
+  return out;
+}
+
+std::vector<ContactTotals> contact_totals(const Model& model, const State& state) {
+  std::vector<ContactTotals> out;
+  for (std::size_t b = 0; b < model.contacts().size(); ++b)
+    out.push_back(contact_totals(model.contacts()[b], state.contact[b], state.u));
+  return out;
+}
+
+namespace {
+// A probe's values as numbers (37), for the sum over the ranks: displacement, stress, von
+// Mises, temperature, ε̃^p, the four strains, ε̃^{e+p}.
+constexpr std::size_t probe_width = 3 + 6 + 3 + 4 * 6 + 1;
+
+void put(const ProbeValues& v, double* out) {
+  for (int d = 0; d < 3; ++d) *out++ = v.displacement[d];
+  for (int c = 0; c < 6; ++c) *out++ = v.stress[c];
+  *out++ = v.von_mises;
+  *out++ = v.temperature;
+  *out++ = v.equivalent_plastic_strain;
+  for (const Voigt* e : strains_of(v))
+    for (int c = 0; c < 6; ++c) *out++ = (*e)[c];
+  *out++ = v.eps_ep;
+}
+
+ProbeValues take(const double* in) {
+  ProbeValues v;
+  for (int d = 0; d < 3; ++d) v.displacement[d] = *in++;
+  for (int c = 0; c < 6; ++c) v.stress[c] = *in++;
+  v.von_mises = *in++;
+  v.temperature = *in++;
+  v.equivalent_plastic_strain = *in++;
+  for (Voigt* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
+    for (int c = 0; c < 6; ++c) (*e)[c] = *in++;
+  v.eps_ep = *in;
+  return v;
+}
+}  // namespace
+
+StepValues step_values(const Model& model, const State& state, const RecoveredFields& fields) {
+  const Partition& part = model.partition();
+  StepValues out;
+  // Probes: the owner of the probe's cell evaluates, the others give zeros.
+  const auto& probes = model.probes();
+  std::vector<double> probe_numbers(probe_width * probes.size(), 0.0);
+  for (std::size_t i = 0; i < probes.size(); ++i)
+    if (part.cell_owner[probes[i].cell] == part.rank)
+      put(probe_values(model, probes[i], state, fields), &probe_numbers[probe_width * i]);
+  // Reactions and the contacts' sums (force, nodes, resultant) over each rank's own nodes; the
+  // contacts' largest values over all.
+  const std::vector<Vec3> reactions = region_reactions(model, state);
+  const auto& bodies = model.contacts();
+  std::vector<double> sums, largest;
+  for (const Vec3& r : reactions) sums.insert(sums.end(), {r.x(), r.y(), r.z()});
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const ContactTotals t =
+        contact_totals(bodies[b], state.contact[b], state.u, &part.node_owner, part.rank);
+    sums.insert(sums.end(), {t.force, static_cast<double>(t.nodes), t.resultant.x(),
+                             t.resultant.y(), t.resultant.z()});
+    largest.insert(largest.end(), {t.max_penetration, t.max_penetration_relative, t.max_pressure});
+  }
+  sums.insert(sums.end(), probe_numbers.begin(), probe_numbers.end());
+  par::sum_to_root(std::span<double>(sums));
+  par::max_in_place(std::span<double>(largest));
+  const double* s = sums.data();
+  for (std::size_t k = 0; k < reactions.size(); ++k, s += 3)
+    out.reactions.emplace_back(s[0], s[1], s[2]);
+  for (std::size_t b = 0; b < bodies.size(); ++b, s += 5) {
+    ContactTotals& t = out.contacts.emplace_back();
+    t.force = s[0];
+    t.nodes = static_cast<int>(std::lround(s[1]));
+    t.resultant = Vec3(s[2], s[3], s[4]);
+    t.max_penetration = largest[3 * b];
+    t.max_penetration_relative = largest[3 * b + 1];
+    t.max_pressure = largest[3 * b + 2];
+  }
+  for (std::size_t i = 0; i < probes.size(); ++i) out.probes.push_back(take(s + probe_width * i));
   return out;
 }
 
@@ -110,13 +191,6 @@ HeatFlows heat_flows(const Model& model, const State& state) {
   for (const auto& r : model.reaction_regions())
     if (r.heat) out.reactions.push_back(through(r.name, true));
   for (const auto& name : model.spec().output.heat_flows) out.flows.push_back(through(name, false));
-  return out;
-}
-
-std::vector<ContactTotals> contact_totals(const Model& model, const State& state) {
-  std::vector<ContactTotals> out;
-  for (std::size_t b = 0; b < model.contacts().size(); ++b)
-    out.push_back(contact_totals(model.contacts()[b], state.contact[b], state.u));
   return out;
 }
 
@@ -307,17 +381,17 @@ void ResultWriter::abandon() {
 }
 
 void ResultWriter::write_history(const StepReport& report, const State& state,
-                                 const RecoveredFields& fields) {
-  const auto reactions = region_reactions(model_, state);
+                                 const StepValues& values) {
+  const auto& reactions = values.reactions;
 
   // history.csv and the values the summary reports
   history_ << fmt::format("{},{:.17g},{},{:.6e}", report.step, report.time, report.iterations,
                           report.residual);
   nlohmann::json probes = nlohmann::json::object(), reaction_json = nlohmann::json::object();
-  std::vector<ProbeValues> probe_row;
-  for (const auto& p : model_.probes()) {
-    const ProbeValues& v = probe_row.emplace_back(probe_values(model_, p, state, fields));
-    auto& j = probes[p.spec->name];
+  const std::vector<ProbeValues>& probe_row = values.probes;
+  for (std::size_t i = 0; i < model_.probes().size(); ++i) {
+    const ProbeValues& v = probe_row[i];
+    auto& j = probes[model_.probes()[i].spec->name];
     for (int d = 0; d < 3; ++d) {
       history_ << fmt::format(",{:.17g}", v.displacement[d]);
       j["displacement"][axes[d]] = v.displacement[d];
@@ -362,7 +436,7 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
       heat_json[model_.spec().output.heat_flows[i]] = heat.flows[i];
     }
   }
-  const auto contacts = contact_totals(model_, state);
+  const auto& contacts = values.contacts;
   nlohmann::json contact_json = nlohmann::json::object();
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const ContactTotals& t = contacts[k];
@@ -397,9 +471,10 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
                              const RecoveredFields& fields) {
   // The fields' writing is collective on several ranks: a history that cannot be written must
   // not keep root from it.
+  const StepValues values = step_values(model_, state, fields);  // collective
   std::exception_ptr history_failure;
   try {
-    write_history(report, state, fields);
+    write_history(report, state, values);
   } catch (const OutputError&) {
     history_failure = std::current_exception();
   }

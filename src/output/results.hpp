@@ -39,7 +39,7 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
                          const RecoveredFields& fields);
 
 /// Reaction of each region of output.reactions: Σ over its nodes of (F_int − F_ext −
-/// F_contact).
+/// F_contact); on several ranks this rank's share, over the nodes it owns (step_values sums).
 std::vector<Vec3> region_reactions(const Model& model, const State& state);
 
 /// Heat into the body (W) through each region of output.reactions with a temperature condition
@@ -60,6 +60,17 @@ struct NodalContact {
   std::vector<double> pressure, state, gap;
 };
 NodalContact nodal_contact(const Model& model, const State& state);
+
+/// The values of a converged step that history.csv and summary.json report: each probe
+/// evaluated by the rank that owns its cell, each reaction and contact total summed (largest
+/// values: the largest) over the nodes each rank owns, and gathered on root. Collective; on the
+/// other ranks the result is not complete.
+struct StepValues {
+  std::vector<ProbeValues> probes;
+  std::vector<Vec3> reactions;
+  std::vector<ContactTotals> contacts;
+};
+StepValues step_values(const Model& model, const State& state, const RecoveredFields& fields);
 
 /// Checks that `dir` can be the output directory of a run, before the run starts: its folder
 /// exists, `dir` is absent, empty or holds hencky results (so that a mistyped path never
@@ -107,13 +118,16 @@ class FieldsWriter {
 /// root's work directory (`dir`, broadcast by the caller).
 class PieceWriter final : public StepObserver {
  public:
-  PieceWriter(const Model& model, std::filesystem::path dir) : fields_(model, std::move(dir)) {}
+  PieceWriter(const Model& model, std::filesystem::path dir)
+      : model_(model), fields_(model, std::move(dir)) {}
   void step_done(const StepReport& report, const State& state,
                  const RecoveredFields& fields) override {
+    step_values(model_, state, fields);  // this rank's share, for root
     if (report.write_fields) fields_.write(report, state, fields);
   }
 
  private:
+  const Model& model_;
   FieldsWriter fields_;
 };
 
@@ -146,7 +160,7 @@ class ResultWriter final : public StepObserver {
   const nlohmann::json& final_values() const { return final_values_; }
 
  private:
-  void write_history(const StepReport& report, const State& state, const RecoveredFields& fields);
+  void write_history(const StepReport& report, const State& state, const StepValues& values);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;

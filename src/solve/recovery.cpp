@@ -83,15 +83,11 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
       c[8] += static_cast<double>(state.flowing[p]);
     }
   }
-  // On an output step every rank writes the piece of its own cells (ResultWriter), and needs
-  // the nodal averages of their nodes, ghost nodes included: the sums go to every rank. A cell's
-  // means are its rank's alone.
-  if (with_cells)
-    par::sum_in_place(std::span<double>(nodal));
-  else
-    par::sum_to_root(std::span<double>(nodal));
+  // Every rank evaluates the probes in its own cells and, on an output step, writes the piece of
+  // its own cells (results.hpp): each needs the nodal averages of its cells' nodes, ghost nodes
+  // included. The sums go to every rank. A cell's means are its rank's alone.
+  par::sum_in_place(std::span<double>(nodal));
   RecoveredFields f;
-  if (!par::root() && !with_cells) return f;
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
   for (auto* t : tensors) t->assign(n_nodes, Voigt::Zero());

@@ -29,9 +29,9 @@ struct RecoveredFields {
 
 /// Collective over the ranks. On one rank, the fields of `state`. The cells' fields only
 /// `with_cells` (the probes of every step need the nodal ones; the cells' are written on output
-/// steps only). On several ranks: with_cells, every rank gets the nodal fields of the whole
-/// model and the cells' fields of its own cells (zero elsewhere), for its piece of the output;
-/// without, root gets the nodal fields and the other ranks empty vectors.
+/// steps only). On several ranks every rank gets the nodal fields of the whole model (for the
+/// probes in its cells and its piece of the output) and the cells' fields of its own cells
+/// (zero elsewhere).
 RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells = true);
 
 }  // namespace hencky
