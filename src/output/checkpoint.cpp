@@ -286,9 +286,12 @@ std::vector<std::vector<ContactNode>> get_contact(const CheckpointFile& f, const
 
 // ---- Files -----------------------------------------------------------------------------------
 
-/// Writes `bytes` to `path` through path.tmp, flushed to the disk (fsync) before the rename:
-/// the file is either the old one (or absent) or the whole new one.
-void write_durably(const fs::path& path, std::string_view bytes) {
+/// Writes what `produce` hands to its sink, piece by piece, to `path` through path.tmp, flushed
+/// to the disk (fsync) before the rename: the file is either the old one (or absent) or the
+/// whole new one.
+void write_durably(
+    const fs::path& path,
+    const std::function<void(const std::function<void(std::string_view)>&)>& produce) {
   const fs::path tmp = fs::path(path).concat(".tmp");
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   auto fail = [&](const char* what) {
@@ -298,14 +301,16 @@ void write_durably(const fs::path& path, std::string_view bytes) {
     throw OutputError(fmt::format("cannot {} {}: {}", what, tmp.string(), why));
   };
   if (fd < 0) fail("create");
-  for (std::size_t at = 0; at < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + at, bytes.size() - at);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      fail("write");
+  produce([&](std::string_view bytes) {
+    for (std::size_t at = 0; at < bytes.size();) {
+      const ssize_t n = ::write(fd, bytes.data() + at, bytes.size() - at);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail("write");
+      }
+      at += static_cast<std::size_t>(n);
     }
-    at += static_cast<std::size_t>(n);
-  }
+  });
   if (::fsync(fd) != 0) fail("flush");
   if (::close(fd) != 0) {
     const std::string why = std::strerror(errno);
@@ -319,6 +324,10 @@ void write_durably(const fs::path& path, std::string_view bytes) {
     throw OutputError(
         fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
   }
+}
+
+void write_durably(const fs::path& path, std::string_view bytes) {
+  write_durably(path, [&](const std::function<void(std::string_view)>& sink) { sink(bytes); });
 }
 
 std::string file_name(int step) {
@@ -614,7 +623,8 @@ void CheckpointWriter::write(const State& committed, const RunMemory& run) {
   const CheckpointFile f = checkpoint_of(model_, committed, run);  // collective
   if (!par::root()) return;
   const std::string name = file_name(run.steps);
-  write_durably(dir_ / name, f.serialize());
+  // Straight from the records to the file: no serialized copy (72 MB at 366k unknowns).
+  write_durably(dir_ / name, [&](const auto& sink) { f.write(sink); });
   std::erase_if(entries_, [&](const CheckpointEntry& e) { return e.step >= run.steps; });
   entries_.push_back({run.steps, committed.time, dir_ / name});
   ++written_;

@@ -71,9 +71,9 @@ const char* type_name(CheckpointFile::Type t) {
 
 }  // namespace
 
-std::uint32_t crc32(std::string_view bytes) {
+std::uint32_t crc32(std::string_view bytes, std::uint32_t crc) {
   static const auto table = crc_table();
-  std::uint32_t c = 0xFFFFFFFFu;
+  std::uint32_t c = crc ^ 0xFFFFFFFFu;
   for (unsigned char b : bytes) c = table[(c ^ b) & 0xFFu] ^ (c >> 8);
   return c ^ 0xFFFFFFFFu;
 }
@@ -151,40 +151,56 @@ const std::string& CheckpointFile::text(const std::string& name) const {
   return get(name, Type::text, -1).text;
 }
 
-std::string CheckpointFile::serialize() const {
-  std::string payload;
+void CheckpointFile::payload(const std::function<void(std::string_view)>& piece) const {
+  std::string head;
   for (const auto& [name, r] : records_) {
-    append<std::uint32_t>(payload, static_cast<std::uint32_t>(name.size()));
-    payload += name;
-    append<std::uint8_t>(payload, static_cast<std::uint8_t>(r.type));
+    head.clear();
+    append<std::uint32_t>(head, static_cast<std::uint32_t>(name.size()));
+    head += name;
+    append<std::uint8_t>(head, static_cast<std::uint8_t>(r.type));
+    append<std::uint64_t>(head, r.count());
+    piece(head);
     switch (r.type) {
       case Type::f64:
-        append<std::uint64_t>(payload, r.f64.size());
-        if (!r.f64.empty())
-          payload.append(reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size());
+        piece({reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size()});
         break;
       case Type::i64:
-        append<std::uint64_t>(payload, r.i64.size());
-        if (!r.i64.empty())
-          payload.append(reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size());
+        piece({reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size()});
         break;
       case Type::u8:
-        append<std::uint64_t>(payload, r.u8.size());
-        payload.append(r.u8.begin(), r.u8.end());
+        piece({reinterpret_cast<const char*>(r.u8.data()), r.u8.size()});
         break;
       case Type::text:
-        append<std::uint64_t>(payload, r.text.size());
-        payload += r.text;
+        piece(r.text);
         break;
     }
   }
-  std::string out(magic, sizeof magic);
-  append<std::uint32_t>(out, checkpoint_format_version);
-  append<std::uint32_t>(out, 0);
-  append<std::uint64_t>(out, payload.size());
-  append<std::uint32_t>(out, crc32(payload));
-  append<std::uint32_t>(out, 0);
-  return out + payload;
+}
+
+void CheckpointFile::write(const std::function<void(std::string_view)>& sink) const {
+  // Two passes over the records: the size and the checksum for the header, then the bytes.
+  std::uint64_t size = 0;
+  std::uint32_t crc = 0;
+  payload([&](std::string_view p) {
+    size += p.size();
+    crc = crc32(p, crc);
+  });
+  std::string header(magic, sizeof magic);
+  append<std::uint32_t>(header, checkpoint_format_version);
+  append<std::uint32_t>(header, 0);
+  append<std::uint64_t>(header, size);
+  append<std::uint32_t>(header, crc);
+  append<std::uint32_t>(header, 0);
+  sink(header);
+  payload([&](std::string_view p) {
+    if (!p.empty()) sink(p);
+  });
+}
+
+std::string CheckpointFile::serialize() const {
+  std::string out;
+  write([&](std::string_view p) { out += p; });
+  return out;
 }
 
 CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& label) {

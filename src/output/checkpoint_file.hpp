@@ -17,6 +17,7 @@
 // before it looks at a record, and every count against the bytes that are left: a truncated,
 // corrupted or foreign file is an InputError naming it, never a crash.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -28,7 +29,8 @@ namespace hencky {
 inline constexpr std::uint32_t checkpoint_format_version = 1;
 
 /// CRC-32 (IEEE, reflected polynomial 0xEDB88320), as zlib's crc32 and `cksum -a crc32b`.
-std::uint32_t crc32(std::string_view bytes);
+/// Continues from `crc`, the CRC of the bytes before: crc32(b, crc32(a)) == crc32(a + b).
+std::uint32_t crc32(std::string_view bytes, std::uint32_t crc = 0);
 
 class CheckpointFile {
  public:
@@ -63,12 +65,18 @@ class CheckpointFile {
 
   /// The whole file: header and payload.
   std::string serialize() const;
+  /// The same bytes, handed to `sink` piece by piece (the header, then each record's own
+  /// header and its values straight from the record): a file written this way needs no copy of
+  /// the payload in memory.
+  void write(const std::function<void(std::string_view)>& sink) const;
   /// Reads a file's bytes; `label` names it in messages. Throws InputError.
   static CheckpointFile parse(std::string_view bytes, const std::string& label);
   const std::string& label() const { return label_; }
 
  private:
   const Record& get(const std::string& name, Type type, long long expected) const;
+  /// The payload's pieces, in order.
+  void payload(const std::function<void(std::string_view)>& piece) const;
   std::map<std::string, Record> records_;
   std::string label_;
 };

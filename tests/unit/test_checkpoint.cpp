@@ -32,6 +32,7 @@ TEST(CheckpointFile, Crc32IsTheStandardOne) {
   // The check value of CRC-32/ISO-HDLC (zlib's crc32).
   EXPECT_EQ(crc32("123456789"), 0xCBF43926u);
   EXPECT_EQ(crc32(""), 0u);
+  EXPECT_EQ(crc32("6789", crc32("12345")), 0xCBF43926u);  // continued piece by piece
 }
 
 TEST(CheckpointFile, RoundTripKeepsEveryBit) {

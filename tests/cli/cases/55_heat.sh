@@ -25,7 +25,9 @@ else bad "heat: no heat_flux field in step_0004.vtu"; fi
 
 # --- The same case on the PETSc back end and on MPI ranks: the temperatures, heat fluxes and
 # stresses agree with the serial direct run (the heat matrix goes through the same back ends).
-parallel_suite "heat" "$hd" "displacement,stress,temperature,heat_flux"
+# The block carries no load: the net reaction of its held bottom is round-off (below 1e-9 N),
+# which the ranks' sums need not reproduce.
+parallel_suite "heat" "$hd" "displacement,stress,temperature,heat_flux" '^reaction\.bottom\.'
 
 # --- A heat analysis that does not converge stops with status 2 and keeps what converged:
 # radiation from surroundings at 1500 degrees switched on at t = 30, two Newton iterations
