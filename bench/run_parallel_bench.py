@@ -39,14 +39,18 @@ Five parts, each selectable with --parts (default: all, run in this order):
             cylinder and case, and `plastic`, the ccx part's plastic cylinder (run_plastic_bench.py,
             newton, 20 increments to 0.9 p_L) with `solver.linear: petsc` instead of direct, so that
             both rank counts run CG + GAMG; each on 1 rank (no mpirun, one core, as in the gamg part)
-            and on 2 ranks (mpirun -np 2), one run each. Recorded: unknowns, wall time, the largest
-            rank's peak (summary.json peak_memory_bytes), the sum over the ranks, the status. With
+            and on 2 ranks (mpirun -np 2), one run each; --memory-ranks 1,2,4 adds 4 ranks (mpirun -np
+            4 --oversubscribe on 2 cores: the time is then shared, the memory is not). Recorded:
+            unknowns, wall time, the largest rank's peak (summary.json peak_memory_bytes), the sum
+            over the ranks, the status, CG iterations per solve (linear_solver.iterations / solves)
+            and the preconditioner's set-up seconds (wall_seconds.factorization: GAMG's). With
             --baseline-hencky PATH every run is repeated with that binary as well (same case files,
             its own output folder and log), to compare two builds in one run; each row names its
             binary. Derived: ratio = largest rank on 2 ranks / 1 rank (0.5: nothing held twice), and
             "held whole per rank" = (2 × largest rank on 2 ranks − 1 rank) / unknowns, in bytes per
             unknown: if a process holds R replicated (whole model) and D distributable bytes, 1 rank
-            peaks at R + D and each of 2 ranks at about R + D/2, so the estimate is R per unknown. It
+            peaks at R + D and each of 2 ranks at about R + D/2, so the estimate is R per unknown (on
+            N ranks, R + D/N each: (N × largest rank − 1 rank) / (N − 1) / unknowns). It
             also counts what a process of 2 holds beyond a serial one (MPI buffers, halo, ghost
             copies) and the 2-rank imbalance (the largest rank is taken), and the fixed start-up
             memory of a process (libraries), which weighs on small models; the notes under the
@@ -74,6 +78,8 @@ and records the cores they used during the run ("others"); runs disturbed by mor
     /usr/bin/python3 bench/run_parallel_bench.py                          # everything, ~30 min here
     /usr/bin/python3 bench/run_parallel_bench.py --parts gamg,scaling --max-dofs 60000 --repeat 1
     /usr/bin/python3 bench/run_parallel_bench.py --parts memory --baseline-hencky OTHER/build/hencky
+    /usr/bin/python3 bench/run_parallel_bench.py --parts memory --memory-sizes 400000 --memory-plastic-sizes "" \
+        --memory-ranks 1,2,4 --memory-petsc "-pc_gamg_repartition true"
     /usr/bin/python3 bench/run_parallel_bench.py --report bench/results/parallel-<stamp>.json
 
 Results: bench/results/parallel-<stamp>.json and .md (rewritten after every part, so a stopped
@@ -586,14 +592,25 @@ def memory_run(exe: Path, binary: str, problem: str, target: int, run_dir: Path,
     if not args.keep_output:
         shutil.rmtree(out, ignore_errors=True)
     print(f"    {binary:8s} {rec['label']:26s} {rec['status']:10s} {rec['dofs'] or 0:>9d} dofs  wall {rec['wall']:8.2f} s  "
-          f"peak {mib(rec['peak_rank']):>6s} MiB/rank {mib(rec['peak_sum']):>6s} all; others {rec['others']:.2f}"
+          f"peak {mib(rec['peak_rank']):>6s} MiB/rank {mib(rec['peak_sum']):>6s} all"
+          + (f"  its/solve {rec['iterations_per_solve']:.1f}" if rec.get("iterations_per_solve") else "")
+          + (f"  set-up {rec['phases']['factorization']:.2f} s" if (rec.get("phases") or {}).get("factorization") is not None else "")
+          + f"; others {rec['others']:.2f}"
           + (f"\n        {rec['failure']}" if rec.get("failure") and rec["status"] != "converged" else ""), flush=True)
     return rec
 
 
+def memory_ranks(args) -> list[int]:
+    """--memory-ranks: the rank counts of the memory part (default 1,2)."""
+    ranks = [int(x) for x in args.memory_ranks.split(",") if x]
+    if not ranks or min(ranks) < 1:
+        raise SystemExit(f"--memory-ranks: rank counts >= 1, comma separated (got {args.memory_ranks!r})")
+    return ranks
+
+
 def part_memory(exe, work, args) -> dict:
-    """Per-rank peak memory on 1 and 2 ranks, elastic and plastic, for this binary and the
-    baseline (see the module notes)."""
+    """Per-rank peak memory on 1 and 2 ranks (--memory-ranks), elastic and plastic, for this
+    binary and the baseline (see the module notes)."""
     binaries = [("hencky", exe)] + ([("baseline", args.baseline_hencky)] if args.baseline_hencky else [])
     pargs = plastic_args(args, "petsc")
     variant = variants(pargs)[0]
@@ -613,13 +630,13 @@ def part_memory(exe, work, args) -> dict:
                 case = run_dir / f"case-{variant['name']}-newton.yaml"
                 case.write_text(problems.plastic_case(run_dir / msh.name, "newton", variant, pargs))
             print(f"[memory {problem} ~{target / 1000:.0f}k] h = {h:g}: {msh.name}", flush=True)
-            for key in (f"{args.memory_solver}-1", f"{args.memory_solver}-2"):
+            for key in (f"{args.memory_solver}-{n}" for n in memory_ranks(args)):
                 for binary, path in binaries:
                     runner.quiet(args)
                     runs.append(dict(memory_run(path, binary, problem, target, run_dir, case, key, args),
                                      h=h, msh=str(msh), gmsh_seconds=gmsh_seconds))
     return dict(binaries=info, exact=lame_bore_displacement(), solver=args.memory_solver,
-                petsc=args.memory_petsc,
+                petsc=args.memory_petsc, ranks=memory_ranks(args),
                 plastic=dict(steps=pargs.steps, tolerance=pargs.tolerance, p_end=pargs.p_end, scheme="newton",
                              layers=2, linear=pargs.linear),
                 runs=runs)
@@ -878,16 +895,20 @@ def render_ccx(res: dict) -> str:
     return "\n".join(out)
 
 
-def held_whole(one: dict, two: dict) -> float | None:
-    """Bytes per unknown every rank holds beyond its half: (2 × largest rank of 2 − 1 rank) / unknowns."""
-    if not (one.get("peak_rank") and two.get("peak_rank") and one.get("dofs")):
+def held_whole(one: dict, many: dict) -> float | None:
+    """Bytes per unknown every rank holds beyond its share: (N × largest rank of N − 1 rank) /
+    (N − 1) / unknowns (on 2 ranks: 2 × largest of 2 − 1 rank)."""
+    if not (one.get("peak_rank") and many.get("peak_rank") and one.get("dofs") and many.get("ranks", 2) > 1):
         return None
-    return (2 * two["peak_rank"] - one["peak_rank"]) / one["dofs"]
+    n = many.get("ranks", 2)
+    return (n * many["peak_rank"] - one["peak_rank"]) / (n - 1) / one["dofs"]
 
 
 def render_memory(res: dict) -> str:
     M = res["parts"]["memory"]
     bins = M["binaries"]
+    ranks = M.get("ranks", [1, 2])
+    multi = [n for n in ranks if n > 1]
     runs = {(r["problem"], r["target_dofs"], r["binary"], r["config"]): r for r in M["runs"]}
     keys = sorted({k[:3] for k in runs}, key=lambda k: (k[0] != "elastic", k[1], list(bins).index(k[2])))
     pl = M["plastic"]
@@ -895,56 +916,83 @@ def render_memory(res: dict) -> str:
     solver_name = {"gamg": "CG + GAMG", "jacobi": "CG + point Jacobi (no multigrid set-up: hencky's own share)"}[solver]
     if M.get("petsc"):
         solver_name += f" with `--petsc \"{M['petsc']}\"`"
+    slash = " / ".join(str(n) for n in ranks)
+    where = lambda n: "1 rank" if n == 1 else f"{n} ranks"
+    largest = lambda n: "MiB 1 rank" if n == 1 else f"MiB largest of {n} ranks | MiB all {n} ranks"
     out = ["### 5. Per-rank peak memory: what every rank still holds whole\n",
            f"`elastic`: the gamg part's cylinder and case (Lamé, one linear solve). `plastic`: the ccx part's plastic "
            f"cylinder (run_plastic_bench.py, perfect plasticity, {pl['scheme']}, {pl['steps']} increments to "
            f"p = {pl['p_end']:.4g} Pa, a slice {pl['layers']} elements thick) with `solver.linear: {pl['linear']}`. "
-           f"Both with {solver_name}: 1 rank = `hencky run` without mpirun on one core, 2 ranks = `mpirun -np 2`, one "
-           "thread each; one run each. MiB: summary.json peak_memory_bytes, the process's peak on 1 rank and the "
-           "largest rank's on 2 (sum over the ranks next to it). Wall: the process, /usr/bin/time -v.\n",
-           "| problem | unknowns | binary | status 1 / 2 ranks | wall s 1 rank | wall s 2 ranks | MiB 1 rank | "
-           "MiB largest of 2 ranks | MiB all 2 ranks | largest of 2 / 1 rank | held whole per rank, bytes / unknown | "
-           "others 1 / 2 |",
-           "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+           f"Both with {solver_name}: 1 rank = `hencky run` without mpirun on one core, "
+           + ", ".join(f"{n} ranks = `mpirun -np {n}`" for n in multi)
+           + (" (`--oversubscribe` above the core count: the time is shared, the memory is not)"
+              if any(n > (res["machine"].get("nproc") or 1) for n in multi) else "")
+           + ", one thread each; one run each. MiB: summary.json peak_memory_bytes, the process's peak on 1 rank and "
+           f"the largest rank's on {multi[0] if len(multi) == 1 else 'N'} (sum over the ranks next to it). CG its / solve: linear_solver.iterations / "
+           "solves; set-up s: wall_seconds.factorization (the preconditioner's set-up). Wall: the process, "
+           "/usr/bin/time -v.\n",
+           f"| problem | unknowns | binary | status {slash} ranks | CG its / solve {slash} ranks | "
+           f"set-up s {slash} ranks | " + " | ".join(f"wall s {where(n)}" for n in ranks) + " | "
+           + " | ".join(largest(n) for n in ranks) + " | "
+           + " | ".join(f"largest of {n} / 1 rank" for n in multi) + (" | " if multi else "")
+           + " | ".join("held whole per rank, bytes / unknown" + (f" ({n} ranks)" if len(multi) > 1 else "")
+                        for n in multi) + (" | " if multi else "") + f"others {slash} |",
+           "|---|---:|---|---|---|---|" + "---:|" * (len(ranks) + len(ranks) + len(multi) + 2 * len(multi)) + "---:|"]
     shown = []
     for prob, target, binary in keys:
-        one, two = runs.get((prob, target, binary, f"{solver}-1"), {}), runs.get((prob, target, binary, f"{solver}-2"), {})
-        dofs = one.get("dofs") or two.get("dofs")
-        hw = held_whole(one, two)
-        out.append(
-            f"| {prob} | {f'{dofs:,}' if dofs else '~' + f'{target:,}'} | {binary} | "
-            f"{status_cell(one) if one else '–'} / {status_cell(two) if two else '–'} | {fmt_s(one.get('wall'))} | "
-            f"{fmt_s(two.get('wall'))} | {mib(one.get('peak_rank'))} | {mib(two.get('peak_rank'))} | "
-            f"{mib(two.get('peak_sum'))} | "
-            + (f"{two['peak_rank'] / one['peak_rank']:.2f}" if one.get("peak_rank") and two.get("peak_rank") else "–")
-            + f" | {f'{hw:.0f}' if hw is not None else '–'} | {others_cell(one) if one else '–'} / "
-            f"{others_cell(two) if two else '–'} |")
-        for r in (one, two):
+        rr = {n: runs.get((prob, target, binary, f"{solver}-{n}"), {}) for n in ranks}
+        one = rr.get(1, {})
+        dofs = next((r["dofs"] for r in rr.values() if r.get("dofs")), None)
+        its = lambda r: f"{r['iterations_per_solve']:.1f}" if r.get("iterations_per_solve") else "–"
+        setup = lambda r: fmt_s((r.get("phases") or {}).get("factorization"))
+        peaks = lambda n: (mib(rr[n].get("peak_rank")) if n == 1
+                           else f"{mib(rr[n].get('peak_rank'))} | {mib(rr[n].get('peak_sum'))}")
+        row = (f"| {prob} | {f'{dofs:,}' if dofs else '~' + f'{target:,}'} | {binary} | "
+               + " / ".join(status_cell(r) if r else "–" for r in rr.values()) + " | "
+               + " / ".join(its(r) for r in rr.values()) + " | "
+               + " / ".join(setup(r) for r in rr.values()) + " | "
+               + " | ".join(fmt_s(r.get("wall")) for r in rr.values()) + " | "
+               + " | ".join(peaks(n) for n in ranks) + " | ")
+        for n in multi:
+            row += (f"{rr[n]['peak_rank'] / one['peak_rank']:.2f}" if one.get("peak_rank") and rr[n].get("peak_rank")
+                    else "–") + " | "
+        for n in multi:
+            hw = held_whole(one, rr[n])
+            row += f"{hw:.0f}" if hw is not None else "–"
+            row += " | "
+        row += " / ".join(others_cell(r) if r else "–" for r in rr.values()) + " |"
+        out.append(row)
+        for r in rr.values():
             if r:
-                where = "1 rank" if r["ranks"] == 1 else f"{r['ranks']} ranks"
                 shown.append(dict(r, config=f"{prob}-{target}-{binary}-{r['config']}",
-                                  label=f"{prob} {dofs or target:,}, {binary}, {where}"))
+                                  label=f"{prob} {dofs or target:,}, {binary}, {where(r['ranks'])}"))
     out.append("")
     out.append("Held whole per rank = (2 × MiB largest of 2 ranks − MiB 1 rank) / unknowns, in bytes per unknown: "
                "with R bytes held whole by every process and D distributed, 1 rank peaks at R + D and each of 2 "
                "ranks at about R + D/2, so the estimate is R (0 if nothing were replicated; the ratio would then be "
                "0.5). It also counts what a process of 2 holds beyond a serial one (MPI buffers, ghosts), the "
                "2-rank imbalance (the largest rank is taken) and each process's fixed start-up memory (libraries), "
-               "which weighs on small models.\n")
+               "which weighs on small models."
+               + (" On N ranks (R + D/N each): (N × MiB largest of N ranks − MiB 1 rank) / (N − 1) / unknowns "
+                  "(ratio 1/N if nothing were replicated)." if any(n != 2 for n in multi) else "") + "\n")
     lines = []
     for prob, binary in sorted({k[::2] for k in keys}, key=lambda k: (k[0] != "elastic", list(bins).index(k[1]))):
-        pts = []
-        for target in sorted({k[1] for k in keys if k[0] == prob and k[2] == binary}):
-            one, two = runs.get((prob, target, binary, f"{solver}-1"), {}), runs.get((prob, target, binary, f"{solver}-2"), {})
-            if held_whole(one, two) is not None:
-                pts.append((one["dofs"], 2 * two["peak_rank"] - one["peak_rank"]))
-        if len(pts) >= 2 and pts[-1][0] != pts[0][0]:
-            (na, ra), (nb, rb_) = pts[0], pts[-1]
-            lines.append(f"- {prob}, {binary}: {(rb_ - ra) / (nb - na):.0f} bytes per unknown held whole per rank "
-                         f"between {na:,} and {nb:,} unknowns")
+        for n in multi:
+            pts = []
+            for target in sorted({k[1] for k in keys if k[0] == prob and k[2] == binary}):
+                one, many = runs.get((prob, target, binary, f"{solver}-1"), {}), runs.get((prob, target, binary, f"{solver}-{n}"), {})
+                if held_whole(one, many) is not None:
+                    pts.append((one["dofs"], (n * many["peak_rank"] - one["peak_rank"]) / (n - 1)))
+            if len(pts) >= 2 and pts[-1][0] != pts[0][0]:
+                (na, ra), (nb, rb_) = pts[0], pts[-1]
+                lines.append(f"- {prob}, {binary}" + (f", {n} ranks" if multi != [2] else "")
+                             + f": {(rb_ - ra) / (nb - na):.0f} bytes per unknown held whole per rank "
+                             f"between {na:,} and {nb:,} unknowns")
     if lines:
         out.append("Between two sizes the fixed memory of a process cancels: (difference of 2 × largest of 2 − 1 "
-                   "rank) / (difference of unknowns), the replicated bytes per added unknown:\n")
+                   "rank) / (difference of unknowns), the replicated bytes per added unknown"
+                   + (" (on N ranks: of (N × largest of N − 1 rank) / (N − 1))" if any(n != 2 for n in multi) else "")
+                   + ":\n")
         out += lines
         out.append("")
     out.append("Binaries: " + "; ".join(
@@ -1019,6 +1067,9 @@ def main():
                          "so the figures are hencky's own)")
     ap.add_argument("--memory-petsc", default="",
                     help="memory part: PETSc options added to every run (e.g. \"-matptap_via allatonce\")")
+    ap.add_argument("--memory-ranks", default="1,2",
+                    help="memory part: rank counts, comma separated (default 1,2; e.g. 1,2,4: --oversubscribe "
+                         "above the core count)")
     ap.add_argument("--baseline-hencky", type=Path, default=None,
                     help="memory part: repeat every run with this hencky binary too (another build, compared in one run)")
     ap.add_argument("--ccx-cases", default="cylinder=100000,cantilever=100000,plastic=60000,contact=40000",
