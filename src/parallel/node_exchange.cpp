@@ -57,8 +57,7 @@ namespace {
 void check_size(std::span<double> v, int width, int local) {
   if (width < 1 || v.size() != static_cast<std::size_t>(width) * local)
     throw std::invalid_argument("NodeExchange: " + std::to_string(v.size()) + " values for " +
-                                std::to_string(local) + " nodes of width " +
-                                std::to_string(width));
+                                std::to_string(local) + " nodes of width " + std::to_string(width));
 }
 }  // namespace
 
@@ -67,7 +66,8 @@ void NodeExchange::to_ghosts(std::span<double> v, int width) const {
   if (!impl_->sf) return;
   // The roots are the owned prefix of v itself; a leaf that is its own root is written with
   // the value it has (PETSc copies through a buffer where root and leaf data overlap).
-  const std::vector<double> owned(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * owned_);
+  const std::vector<double> owned(v.begin(),
+                                  v.begin() + static_cast<std::ptrdiff_t>(width) * owned_);
   const MPI_Datatype t = impl_->type(width);
   par::check_petsc(PetscSFBcastBegin(impl_->sf, t, owned.data(), v.data(), MPI_REPLACE),
                    "PetscSFBcastBegin");

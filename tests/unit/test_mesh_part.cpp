@@ -57,7 +57,8 @@ TEST_F(MeshParts, PartsPutTheWholeMeshBackTogether) {
     std::vector<MeshPart> p;
     for (int rank = 0; rank < parts; ++rank)
       p.push_back(extract_part(whole, partition_from(whole, owner, parts, rank)));
-    std::vector<int> cell_seen(n_cells, 0), owned_seen(n_nodes, 0), face_seen(whole.faces.size(), 0);
+    std::vector<int> cell_seen(n_cells, 0), owned_seen(n_nodes, 0),
+        face_seen(whole.faces.size(), 0);
     int ghosts = 0;
     for (int rank = 0; rank < parts; ++rank) {
       const MeshPart& q = p[rank];

@@ -35,8 +35,8 @@ Distributed distributed_box() {
   Distributed d;
   d.whole = read_gmsh(dir / "box.geo", opt);
   const int ranks = par::size();
-  d.part = extract_part(d.whole, partition_from(d.whole, split_cells(d.whole, ranks), ranks,
-                                                par::rank()));
+  d.part = extract_part(d.whole,
+                        partition_from(d.whole, split_cells(d.whole, ranks), ranks, par::rank()));
   return d;
 }
 
