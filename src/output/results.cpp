@@ -107,32 +107,18 @@ std::vector<ContactTotals> contact_totals(const Model& model, const State& state
 }
 
 namespace {
-// A probe's values as numbers (37), for the sum over the ranks: displacement, stress, von
-// Mises, temperature, ε̃^p, the four strains, ε̃^{e+p}.
-constexpr std::size_t probe_width = 3 + 6 + 3 + 4 * 6 + 1;
-
-void put(const ProbeValues& v, double* out) {
-  for (int d = 0; d < 3; ++d) *out++ = v.displacement[d];
-  for (int c = 0; c < 6; ++c) *out++ = v.stress[c];
-  *out++ = v.von_mises;
-  *out++ = v.temperature;
-  *out++ = v.equivalent_plastic_strain;
-  for (const Voigt* e : strains_of(v))
-    for (int c = 0; c < 6; ++c) *out++ = (*e)[c];
-  *out++ = v.eps_ep;
-}
-
-ProbeValues take(const double* in) {
-  ProbeValues v;
-  for (int d = 0; d < 3; ++d) v.displacement[d] = *in++;
-  for (int c = 0; c < 6; ++c) v.stress[c] = *in++;
-  v.von_mises = *in++;
-  v.temperature = *in++;
-  v.equivalent_plastic_strain = *in++;
-  for (Voigt* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
-    for (int c = 0; c < 6; ++c) (*e)[c] = *in++;
-  v.eps_ep = *in;
-  return v;
+/// f(x) for each number of a probe's values (a const or a mutable ProbeValues), in one fixed
+/// order: for the sum over the ranks.
+template <class V, class F>
+void each_number(V& v, F&& f) {
+  for (int d = 0; d < 3; ++d) f(v.displacement[d]);
+  for (int c = 0; c < 6; ++c) f(v.stress[c]);
+  f(v.von_mises);
+  f(v.temperature);
+  f(v.equivalent_plastic_strain);
+  for (auto* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
+    for (int c = 0; c < 6; ++c) f((*e)[c]);
+  f(v.eps_ep);
 }
 }  // namespace
 
@@ -141,10 +127,13 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
   StepValues out;
   // Probes: the owner of the probe's cell evaluates, the others give zeros.
   const auto& probes = model.probes();
-  std::vector<double> probe_numbers(probe_width * probes.size(), 0.0);
-  for (std::size_t i = 0; i < probes.size(); ++i)
-    if (part.cell_owner[probes[i].cell] == part.rank)
-      put(probe_values(model, probes[i], state, fields), &probe_numbers[probe_width * i]);
+  std::vector<double> probe_numbers;
+  for (const Probe& p : probes) {
+    const ProbeValues v = part.cell_owner[p.cell] == part.rank
+                              ? probe_values(model, p, state, fields)
+                              : ProbeValues{};
+    each_number(v, [&](double x) { probe_numbers.push_back(x); });
+  }
   // Reactions and the contacts' sums (force, nodes, resultant) over each rank's own nodes; the
   // contacts' largest values over all.
   const std::vector<Vec3> reactions = region_reactions(model, state);
@@ -173,7 +162,8 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
     t.max_penetration_relative = largest[3 * b + 1];
     t.max_pressure = largest[3 * b + 2];
   }
-  for (std::size_t i = 0; i < probes.size(); ++i) out.probes.push_back(take(s + probe_width * i));
+  out.probes.resize(probes.size());
+  for (ProbeValues& v : out.probes) each_number(v, [&](double& x) { x = *s++; });
   return out;
 }
 
@@ -501,21 +491,21 @@ FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
   x_ = std::move(part.mesh.x);
   node_tag_ = std::move(part.mesh.node_tag);
   cell_tag_ = cell_set_.tag;
+  std::vector<char> has_cells(par::size(), 0);
+  for (int owner : model_.partition().cell_owner) has_cells[owner] = 1;
+  for (int r = 0; r < par::size(); ++r)
+    if (has_cells[r]) ranks_with_cells_.push_back(r);
 }
 
 std::string FieldsWriter::write(const StepReport& report, const State& state,
                                 const RecoveredFields& fields) {
   const std::string stem = fmt::format("step_{:04d}", report.step);
   if (!pieces_) {
-    write_file(dir_ / (stem + ".vtu"), state, fields, nullptr, nullptr);
+    write_file(dir_ / (stem + ".vtu"), state, fields);
     return stem + ".vtu";
   }
   // Every rank with cells writes its piece into step_NNNN/; root then lists them.
-  const int ranks = par::size(), rank = par::rank();
-  std::vector<double> has_cells(ranks, 0.0);
-  has_cells[rank] = cells_.empty() ? 0.0 : 1.0;
-  par::sum_in_place(has_cells);
-  std::vector<VtuField> point_fields, cell_fields;
+  Layout layout;
   std::string failure;
   try {
     const fs::path folder = dir_ / stem;
@@ -524,8 +514,7 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
     if (ec && !fs::is_directory(folder))
       throw OutputError(fmt::format("cannot create {}: {}", folder.string(), ec.message()));
     if (!cells_.empty())
-      write_file(folder / fmt::format("rank_{}.vtu", rank), state, fields, &point_fields,
-                 &cell_fields);
+      layout = write_file(folder / fmt::format("rank_{}.vtu", par::rank()), state, fields);
   } catch (const OutputError& e) {
     failure = e.what();
   }
@@ -538,20 +527,16 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
     throw OutputError(why.empty() ? std::string("another rank could not write its fields") : why);
   }
   if (!par::root()) return {};
-  if (cells_.empty())  // root writes the list whether or not it holds cells
-    write_file({}, state, fields, &point_fields, &cell_fields);
+  if (cells_.empty())  // root lists the pieces whether or not it holds cells
+    layout = write_file({}, state, fields);
   std::vector<std::string> pieces;
-  for (int r = 0; r < ranks; ++r)
-    if (has_cells[r] > 0) pieces.push_back(fmt::format("{}/rank_{}.vtu", stem, r));
-  const VtuIntField int_fields[] = {{"material", {}}, {"region", {}}};
-  write_pvtu(dir_ / (stem + ".pvtu"), point_fields, cell_fields, int_fields, true, pieces);
+  for (int r : ranks_with_cells_) pieces.push_back(fmt::format("{}/rank_{}.vtu", stem, r));
+  write_pvtu(dir_ / (stem + ".pvtu"), layout.point, layout.cell, layout.ints, true, pieces);
   return stem + ".pvtu";
 }
 
-void FieldsWriter::write_file(const fs::path& path, const State& state,
-                              const RecoveredFields& fields,
-                              std::vector<VtuField>* point_fields_out,
-                              std::vector<VtuField>* cell_fields_out) {
+FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State& state,
+                                              const RecoveredFields& fields) {
   const auto& mesh = model_.mesh();
   const bool whole = !pieces_;
   const int n = whole ? mesh.n_nodes() : static_cast<int>(nodes_.size()),
@@ -641,10 +626,11 @@ void FieldsWriter::write_file(const fs::path& path, const State& state,
                 VtuGlobalIds{node_tag_, cell_tag_});
   }
   // The names and widths, for root's .pvtu (the data's spans die here).
-  if (point_fields_out)
-    for (const auto& f : point_fields) point_fields_out->push_back({f.name, f.n_components, {}});
-  if (cell_fields_out)
-    for (const auto& f : cell_fields) cell_fields_out->push_back({f.name, f.n_components, {}});
+  Layout layout;
+  for (const auto& f : point_fields) layout.point.push_back({f.name, f.n_components, {}});
+  for (const auto& f : cell_fields) layout.cell.push_back({f.name, f.n_components, {}});
+  for (const auto& f : int_fields) layout.ints.push_back({f.name, {}});
+  return layout;
 }
 
 namespace {

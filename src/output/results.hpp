@@ -98,9 +98,14 @@ class FieldsWriter {
   std::string write(const StepReport& report, const State& state, const RecoveredFields& fields);
 
  private:
-  void write_file(const std::filesystem::path& path, const State& state,
-                  const RecoveredFields& fields, std::vector<VtuField>* point_fields_out,
-                  std::vector<VtuField>* cell_fields_out);
+  /// The names and widths of a fields file's arrays (their data left empty), for the .pvtu.
+  struct Layout {
+    std::vector<VtuField> point, cell;
+    std::vector<VtuIntField> ints;
+  };
+  /// Writes this rank's fields file to `path` (nothing when empty) and returns its layout.
+  Layout write_file(const std::filesystem::path& path, const State& state,
+                    const RecoveredFields& fields);
   const Model& model_;
   std::filesystem::path dir_;
   bool pieces_ = false;
@@ -110,7 +115,7 @@ class FieldsWriter {
   CellSet cell_set_;
   std::vector<Vec3> x_;
   std::vector<long> node_tag_, cell_tag_;
-  std::vector<std::string> piece_files_;  ///< root: "rank_R.vtu" of the ranks with cells
+  std::vector<int> ranks_with_cells_;  ///< the ranks that write a piece (the partition's)
   std::vector<double> zeros_;
 };
 

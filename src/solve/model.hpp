@@ -88,9 +88,6 @@ class Model {
   bool holds_points(int cell) const { return point_offset_[cell + 1] > point_offset_[cell]; }
   /// The points of the whole model, over all ranks.
   int total_points() const { return total_points_; }
-  /// This rank stores the points of the cells with held[cell] != 0 only (the partition's own
-  /// cells on several MPI ranks). Call before any State is made.
-  void hold_points(const std::vector<char>& held);
   /// The split of the mesh over the MPI ranks (one part on one rank): this rank then holds the
   /// points of its own cells (hold_points). Call before any State is made.
   void set_partition(Partition partition);
@@ -147,6 +144,8 @@ class Model {
   }
 
  private:
+  /// This rank stores the points of the cells with held[cell] != 0 only.
+  void hold_points(const std::vector<char>& held);
   mutable std::optional<FactorEstimate> node_factor_;
   void bind_materials(Log& log);
   void check_cells();
