@@ -112,8 +112,11 @@ struct PetscSolver::Impl {
 
 PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
                          Partition partition, PetscPreset preset, const std::string& options,
-                         double tolerance)
-    : impl_(std::make_unique<Impl>()), assembler_(assembler), partition_(std::move(partition)) {
+                         double tolerance, std::optional<PetscPart> part)
+    : impl_(std::make_unique<Impl>()),
+      assembler_(assembler),
+      partition_(std::move(partition)),
+      part_(part) {
   par::ensure_petsc();
   Impl& s = *impl_;
   par::add_petsc_options(options);
@@ -138,14 +141,28 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   const int k = s.k;
   const int n_nodes = mesh.n_nodes(), parts = partition_.parts, me = partition_.rank;
   // Rows by rank, then by the node's own order within the rank.
-  std::vector<PetscInt> count(parts + 1, 0);
-  for (int n = 0; n < n_nodes; ++n) ++count[partition_.node_owner[n] + 1];
-  for (int r = 0; r < parts; ++r) count[r + 1] += count[r];
   s.first_row.resize(n_nodes);
-  for (int n = 0; n < n_nodes; ++n) {
-    const int r = partition_.node_owner[n];
-    s.first_row[n] = k * count[r]++;
-    if (r == me) s.owned.push_back(n);
+  if (part_) {
+    // A part: its own nodes are its first ones; a ghost's rows are its owner's numbering of
+    // it, after the nodes of the ranks before that owner.
+    const MeshPart& p = part_->part;
+    std::vector<double> owned_by(parts, 0.0);
+    owned_by[me] = p.owned_nodes;
+    par::sum_in_place(std::span<double>(owned_by));
+    std::vector<PetscInt> before(parts + 1, 0);
+    for (int r = 0; r < parts; ++r) before[r + 1] = before[r] + static_cast<PetscInt>(owned_by[r]);
+    for (int n = 0; n < n_nodes; ++n)
+      s.first_row[n] = k * (before[p.node_owner[n]] + p.owner_index[n]);
+    for (int n = 0; n < p.owned_nodes; ++n) s.owned.push_back(n);
+  } else {
+    std::vector<PetscInt> count(parts + 1, 0);
+    for (int n = 0; n < n_nodes; ++n) ++count[partition_.node_owner[n] + 1];
+    for (int r = 0; r < parts; ++r) count[r + 1] += count[r];
+    for (int n = 0; n < n_nodes; ++n) {
+      const int r = partition_.node_owner[n];
+      s.first_row[n] = k * count[r]++;
+      if (r == me) s.owned.push_back(n);
+    }
   }
   const PetscInt n_local = k * static_cast<PetscInt>(s.owned.size());
 
@@ -167,17 +184,47 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
     node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
     std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
     std::vector<int> seen(n_nodes, -1);
-    for (std::size_t l = 0; l < s.owned.size(); ++l) {
-      const int n = s.owned[l];
-      PetscInt d = 0, o = 0;
-      for (int k = ptr[n]; k < ptr[n + 1]; ++k)
-        for (int m : mesh.cells.nodes(idx[k])) {
-          if (seen[m] == static_cast<int>(l)) continue;
-          seen[m] = static_cast<int>(l);
-          (partition_.node_owner[m] == me ? d : o) += 1;
-        }
-      d_nnz[l] = std::max<PetscInt>(d, 1);
-      o_nnz[l] = o;
+    if (part_) {
+      // A part sees a node's couplings through its own cells only: each rank counts those of
+      // its copy of every node (columns of the row's owner in the diagonal block), and the
+      // owner adds the copies' counts up. A coupling two ranks' cells share is counted by
+      // both: the preallocation may exceed the row, never fall short.
+      std::vector<double> counts(2 * static_cast<std::size_t>(n_nodes), 0.0);
+      for (int n = 0; n < n_nodes; ++n) {
+        const int owner = part_->part.node_owner[n];
+        for (int c = ptr[n]; c < ptr[n + 1]; ++c)
+          for (int m : mesh.cells.nodes(idx[c])) {
+            if (seen[m] == n) continue;
+            seen[m] = n;
+            counts[2 * n + (part_->part.node_owner[m] == owner ? 0 : 1)] += 1;
+          }
+      }
+      part_->exchange.sum(counts, 2);
+      const PetscInt own_blocks = static_cast<PetscInt>(s.owned.size());
+      PetscInt all_blocks = own_blocks;
+      {
+        double total = static_cast<double>(own_blocks);
+        par::sum_in_place(std::span<double>(&total, 1));
+        all_blocks = static_cast<PetscInt>(total);
+      }
+      for (std::size_t l = 0; l < s.owned.size(); ++l) {
+        d_nnz[l] = std::clamp<PetscInt>(static_cast<PetscInt>(counts[2 * l]), 1, own_blocks);
+        o_nnz[l] =
+            std::min<PetscInt>(static_cast<PetscInt>(counts[2 * l + 1]), all_blocks - own_blocks);
+      }
+    } else {
+      for (std::size_t l = 0; l < s.owned.size(); ++l) {
+        const int n = s.owned[l];
+        PetscInt d = 0, o = 0;
+        for (int k = ptr[n]; k < ptr[n + 1]; ++k)
+          for (int m : mesh.cells.nodes(idx[k])) {
+            if (seen[m] == static_cast<int>(l)) continue;
+            seen[m] = static_cast<int>(l);
+            (partition_.node_owner[m] == me ? d : o) += 1;
+          }
+        d_nnz[l] = std::max<PetscInt>(d, 1);
+        o_nnz[l] = o;
+      }
     }
     check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
     check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
@@ -188,7 +235,9 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
   check_petsc(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   check_petsc(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
   check_petsc(VecDuplicate(s.b, &s.r), "VecDuplicate");
-  check_petsc(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
+  // A replicated mesh takes the whole solution on every rank; a part, its own nodes' and its
+  // ghosts' through the exchange (solve).
+  if (!part_) check_petsc(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
 
   // Near null space of the displacement: the six rigid-body modes of the owned nodes'
   // coordinates (a scalar field's, the constants, is GAMG's default).
@@ -445,6 +494,18 @@ void PetscSolver::solve(std::span<const double> rhs, std::span<double> x) {
           fmt::format("{}: the solution leaves a relative residual of {:.2e}: the matrix is "
                       "singular or nearly so",
                       stats_.description, b_norm > 0 ? r_norm / b_norm : r_norm));
+  }
+  if (part_) {
+    // The own nodes' values, then the ghosts' from their owners.
+    std::vector<double> nodal(static_cast<std::size_t>(s.k) * s.mesh->n_nodes(), 0.0);
+    const PetscScalar* own = nullptr;
+    check_petsc(VecGetArrayRead(s.x, &own), "VecGetArrayRead");
+    std::copy(own, own + s.k * s.owned.size(), nodal.begin());
+    check_petsc(VecRestoreArrayRead(s.x, &own), "VecRestoreArrayRead");
+    part_->exchange.to_ghosts(nodal, s.k);
+    for (std::size_t i = 0; i < nodal.size(); ++i)
+      if (const int k = eq[i]; k >= 0) x[k] = nodal[i];
+    return;
   }
   check_petsc(VecScatterBegin(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");
   check_petsc(VecScatterEnd(s.to_all, s.x, s.x_all, INSERT_VALUES, SCATTER_FORWARD), "VecScatter");

@@ -11,17 +11,29 @@
 // Default: CG with GAMG ("iterative"), or MUMPS Cholesky ("direct"); any PETSc option given in
 // the case (solver.petsc_options) or on the command line overrides it (KSPSetFromOptions).
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "linalg/linear_system.hpp"
 #include "mesh/mesh.hpp"
+#include "parallel/mesh_part.hpp"
+#include "parallel/node_exchange.hpp"
 #include "parallel/partition.hpp"
 
 namespace hencky {
 
 enum class PetscPreset { gamg, mumps };
+
+/// A rank's part of a distributed mesh (issue 21): the mesh given to PetscSolver is the part
+/// (`part`'s numbering against the whole, whose own `mesh` is not read), a node's rows are
+/// numbered by its owner (owners in rank order, each rank's own nodes in their local order),
+/// and a solution reaches the ghost nodes through `exchange`.
+struct PetscPart {
+  const MeshPart& part;
+  const NodeExchange& exchange;
+};
 
 class PetscSolver final : public LinearSystem {
  public:
@@ -30,9 +42,9 @@ class PetscSolver final : public LinearSystem {
   /// relative residual of the Krylov solve (set_relative_tolerance loosens it per solve;
   /// -ksp_rtol fixes it instead). `assembler` gives the cells' matrices (its pattern is not
   /// used).
-  PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
-              Partition partition, PetscPreset preset, const std::string& options = "",
-              double tolerance = 1e-10);
+  PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler, Partition partition,
+              PetscPreset preset, const std::string& options = "", double tolerance = 1e-10,
+              std::optional<PetscPart> part = std::nullopt);
   ~PetscSolver() override;
 
   const Partition& partition() const { return partition_; }
@@ -56,8 +68,9 @@ class PetscSolver final : public LinearSystem {
   /// (the user's tolerance stands).
   void set_relative_tolerance(double rtol) override;
   std::vector<std::string> unused_options() const override;
+  /// A part's cells are all its own (nullptr); a replicated mesh's, the partition's.
   const std::vector<char>* own_cells() const override {
-    return partition_.parts > 1 ? &partition_.owned_cell : nullptr;
+    return partition_.parts > 1 && !part_ ? &partition_.owned_cell : nullptr;
   }
   const LinearSolverStats& stats() const override { return stats_; }
 
@@ -70,6 +83,7 @@ class PetscSolver final : public LinearSystem {
   std::unique_ptr<Impl> impl_;
   const Assembler& assembler_;
   Partition partition_;
+  std::optional<PetscPart> part_;
   LinearSolverStats stats_;
 };
 

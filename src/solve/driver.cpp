@@ -102,21 +102,29 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
     log.info("{} MPI ranks: the PETSc back end with {} replaces solver.linear: {}", ranks,
              preset == PetscPreset::mumps ? "MUMPS (direct)" : "CG + GAMG (iterative)",
              linear == SolverSpec::Linear::direct ? "direct" : "iterative");
+  const std::string options = s.petsc_options.empty() || petsc_options.empty()
+                                  ? s.petsc_options + petsc_options
+                                  : s.petsc_options + " " + petsc_options;
+  const auto petsc = [&](Partition part, std::optional<PetscPart> piece) {
+    try {
+      return std::make_unique<PetscSolver>(spec_model.mesh(), dofs, assembler, std::move(part),
+                                           preset, options, 1e-10, piece);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(
+          SourceLocation{spec_model.spec().file.string(), 0, 0, "solver.petsc_options"},
+          std::string(e.what()) + " (from solver.petsc_options and --petsc)");
+    }
+  };
+  // A distributed mesh: the model is this rank's part, split when it was read.
+  if (const MeshPart* p = spec_model.part())
+    return petsc(spec_model.partition(), PetscPart{*p, *spec_model.exchange()});
   Partition part = partition_mesh(spec_model.mesh(), ranks, par::rank());
   if (ranks > 1 && model)
     log.info("partition: {} ranks, {} .. {} elements and {} .. {} nodes per rank", ranks,
              par::min(part.owned_cells), par::max(part.owned_cells), par::min(part.owned_nodes),
              par::max(part.owned_nodes));
   if (ranks > 1 && model) model->set_partition(part);
-  try {
-    return std::make_unique<PetscSolver>(
-        spec_model.mesh(), dofs, assembler, std::move(part), preset,
-        s.petsc_options.empty() || petsc_options.empty() ? s.petsc_options + petsc_options
-                                                         : s.petsc_options + " " + petsc_options);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(SourceLocation{spec_model.spec().file.string(), 0, 0, "solver.petsc_options"},
-                     std::string(e.what()) + " (from solver.petsc_options and --petsc)");
-  }
+  return petsc(std::move(part), std::nullopt);
 }
 
 }  // namespace

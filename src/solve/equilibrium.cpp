@@ -20,12 +20,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double norm(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x * x;
-  return std::sqrt(s);
-}
-
 /// The diagonal of the mesh's bounding box.
 double model_size(const Mesh& mesh) {
   Vec3 lo = mesh.x.front(), hi = lo;
@@ -52,7 +46,10 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
       scheme_(make_scheme(m.spec().solver.scheme, m.spec().solver.curve_form,
                           m.spec().solver.relaxation)),
       points_(m, only_, *scheme_),
-      contact_(m) {
+      contact_(m),
+      layout_(m.layout()),
+      own_dofs_(layout_.owned_entries(m.dofs().eq.size(), 3, m.mesh().n_nodes())),
+      own_free_(layout_.owned_free(m.dofs().eq, 3)) {
   // A rank stores the points of the cells it holds and works on its own cells: these must
   // agree (make_run_solver makes the model hold the partition's cells).
   for (int e = 0; e < m.mesh().cells.size(); ++e)
@@ -179,7 +176,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
     out.delta_sigma = ev.points.delta_sigma;
     out.delta_eps = ev.points.delta_eps;
     out.plastic_points = ev.points.plastic_points;
-    if (only_) {
+    if (layout_.shared()) {
       // The sums over ranks may differ in their last bits from rank to rank: root's figures
       // decide for all.
       double d[3] = {out.residual, out.delta_sigma, out.delta_eps};
@@ -254,6 +251,11 @@ Equilibrium::Evaluation Equilibrium::begin_again(const State& c, State& trial,
 /// after the first iterate (reactions included), and its residual (which carries thermal and
 /// prescribed-displacement loading). It vanishes in a step whose start and target have no load
 /// and no stress: free expansion, or unloading to zero (then history_force holds the scale).
+/// ‖v‖ of a complete nodal vector (3 per node) over the whole model.
+double Equilibrium::norm(const std::vector<double>& v) const {
+  return std::sqrt(layout_.dot(v, v, own_dofs_));
+}
+
 double Equilibrium::step_force(const State& c, const State& trial, const Evaluation& ev) const {
   return std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
 }
@@ -332,11 +334,12 @@ void Equilibrium::begin(const State& c, double t1, State& trial) {
 void Equilibrium::report_defect(const State& c) const {
   const auto& dofs = m_.dofs();
   double d2 = 0;
-  for (int i = 0; i < dofs.n_dofs(); ++i)
+  for (std::size_t i = 0; i < own_dofs_; ++i)
     if (dofs.eq[i] >= 0) {
       const double d = loads_at_t_[i] + c.f_contact[i] - forces_at_t_[i];
       d2 += d * d;
     }
+  d2 = layout_.total(d2);
   const double scale = std::max(norm(loads_at_t_), norm(forces_at_t_));
   log_.detail("  equilibrium defect at t = {:g} on its configuration: {:.3e} ({:.3e} relative)",
               c.time, std::sqrt(d2), scale > 0 ? std::sqrt(d2) / scale : 0.0);
@@ -411,9 +414,8 @@ Equilibrium::Evaluation Equilibrium::predict(const State& c, State& trial,
   // A start already in equilibrium (the load does not change in this step) needs no
   // predictor, and the sign of its round-off out-of-balance force says nothing.
   if (std::sqrt(at_start.r2) <= m_.spec().solver.tolerance * force_scale) return at_start;
-  double work = 0;
-  for (int k = 0; k < dofs.n_free; ++k) work += rhs_[k] * last_du_[k];
-  if (only_) par::broadcast(std::span<double>(&work, 1));  // one decision for all ranks
+  double work = layout_.dot(rhs_, last_du_, own_free_);
+  if (layout_.shared()) par::broadcast(std::span<double>(&work, 1));  // one decision for all ranks
   if (!(work > 0)) {
     log_.detail("  predictor: the load reverses (no work on the last increment); no extrapolation");
     return at_start;
@@ -469,6 +471,7 @@ void Equilibrium::accept(const State& c, State& trial, double scale, StepOutcome
     double u_max = 0;
     for (int n = 0; n < m_.mesh().n_nodes(); ++n)
       u_max = std::max(u_max, Vec3(trial.u[3 * n], trial.u[3 * n + 1], trial.u[3 * n + 2]).norm());
+    u_max = layout_.largest(u_max);
     if (u_max > spec.mechanism_limit * model_size_) {
       throw SolveError(fmt::format(
           "the displacement reached {:.3g}, more than {:g} % of the model's size {:.3g} "
@@ -592,15 +595,11 @@ void Equilibrium::line_search(const State& c, State& trial) {
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (int k = dofs.eq[i]; k >= 0) trial.u[i] = u_before_[i] + s * delta_[k];
   };
-  const auto work = [&] {
-    double g = 0;
-    for (std::size_t k = 0; k < delta_.size(); ++k) g += delta_[k] * rhs_[k];
-    return g;
-  };
+  const auto work = [&] { return layout_.dot(delta_, rhs_, own_free_); };
   u_before_ = trial.u;
   double g0 = work();
   // Every rank takes the same decisions (their sums may differ in the last bits): root's.
-  if (only_) par::broadcast(std::span<double>(&g0, 1));
+  if (layout_.shared()) par::broadcast(std::span<double>(&g0, 1));
   move(1.0);
   if (!(g0 > 0)) return;  // no descent direction of the energy: δ whole
   points_.save_memory();  // (Anderson's fallback keeps it too; it never mixes these schemes)
@@ -611,7 +610,7 @@ void Equilibrium::line_search(const State& c, State& trial) {
     s = ratio < 2.0 / 3.0 ? 1 / (1 - ratio) : 3.0;
   else if (ratio < -0.5)
     s = std::max(0.2, 1 / (1 - ratio));
-  if (only_) par::broadcast(std::span<double>(&s, 1));
+  if (layout_.shared()) par::broadcast(std::span<double>(&s, 1));
   if (s == 1 && !contact_.active()) {
     searched_ = std::move(ev);
     return;
@@ -700,21 +699,27 @@ double Equilibrium::residual_vector(State& trial, double* loads2) {
     if (int k = dofs.eq[i]; k >= 0) {
       const double loads = target_[i] - trial.f_int[i];
       rhs_[k] = loads + trial.f_contact[i];
+      if (static_cast<std::size_t>(i) >= own_dofs_) continue;  // a ghost: its owner counts it
       r2 += rhs_[k] * rhs_[k];
       l2 += loads * loads;
     }
+  if (layout_.kind() == NodalLayout::Kind::distributed) {
+    double sums[2] = {r2, l2};
+    par::sum_in_place(std::span<double>(sums));
+    r2 = sums[0], l2 = sums[1];
+  }
   if (loads2) *loads2 = l2;
   return r2;
 }
 
 double Equilibrium::equilibrium_defect(const State& s) const {
   double r = 0;
-  for (int i = 0; i < m_.dofs().n_dofs(); ++i)
+  for (std::size_t i = 0; i < own_dofs_; ++i)
     if (m_.dofs().eq[i] >= 0) {
       const double d = s.f_ext[i] + s.f_contact[i] - s.f_int[i];
       r += d * d;
     }
-  return std::sqrt(r);
+  return std::sqrt(layout_.total(r));
 }
 
 /// Keeps the free part of a converged step's displacement increment for the next predictor.

@@ -68,6 +68,7 @@ class Equilibrium {
   void begin(const State& c, double t1, State& trial);
   double correction(double t1) const;
   void report_defect(const State& c) const;
+  double norm(const std::vector<double>& v) const;
   double step_force(const State& c, const State& trial, const Evaluation& ev) const;
   double history_force(const State& c) const;
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
@@ -98,6 +99,9 @@ class Equilibrium {
   std::unique_ptr<Scheme> scheme_;
   PointPass points_;
   ContactStep contact_;
+  const NodalLayout& layout_;
+  std::size_t own_dofs_;  ///< the leading entries of a nodal vector that are this rank's own
+  int own_free_;          ///< the same of a free-dof vector
   bool matrix_changes_with_temperature_ = false;
   // solver.geometry: updated; the nodes' coordinates the step is written on: the mesh's, or
   // X + u(t) under `updated` (set by begin)

@@ -384,7 +384,7 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
     throw InputError(SourceLocation{model_.spec().file.string(), 0, 0, "heat"},
                      "the heat analysis met an input error on another MPI rank");
   }
-  if (system_->own_cells()) par::sum_in_place(std::span<double>(sums));
+  model_.layout().sum_blocks(sums, 4);
   ev.R.assign(R, R + n_nodes);
   ev.SR.assign(SR, SR + n_nodes);
   ev.C.assign(C, C + n_nodes);
@@ -574,7 +574,7 @@ void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot
   };
   model_.heat_assembler().matrices(
       kernel, [](int, const double*) {}, system_->own_cells());
-  if (system_->own_cells()) par::sum_in_place(std::span<double>(out));
+  model_.layout().sum(out, 1);
 }
 
 bool HeatSolver::gmres(const std::vector<double>& T, const HeatSnapshot& from, double t1,

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -11,6 +13,8 @@
 #include "core/suggest.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
+#include "parallel/mpi.hpp"
+#include "parallel/node_exchange.hpp"
 
 namespace hencky {
 
@@ -49,10 +53,72 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   set_partition(partition_from(mesh_, std::vector<int>(mesh_.cells.size(), 0), 1, 0));
   total_points_ = n_points();
   assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+  global_[0] = mesh_.n_nodes();
+  global_[1] = mesh_.cells.size();
+  global_[2] = dofs_.n_free;
+}
+
+Model::Model(const Case& c, MeshPart part, Log& log) : case_(&c), mesh_(std::move(part.mesh)) {
+  part.mesh = Mesh();
+  part_ = std::move(part);
+  if (part_->node_owner.size() != static_cast<std::size_t>(mesh_.n_nodes()) ||
+      part_->owned_nodes > mesh_.n_nodes())
+    throw std::invalid_argument("Model: the part's owners do not match its nodes");
+  reference_temperature_ = c.temperature.given ? c.temperature.reference : 0.0;
+  bind_materials(log);
+  check_cells();
+  bind_boundary();
+  bind_temperature();
+  check_temperature_range();
+  bind_heat();
+  bind_outputs();
+  bind_contact();
+  // Every cell of the part is this rank's, and so are its points.
+  partition_.parts = par::size();
+  partition_.rank = par::rank();
+  partition_.cell_owner.assign(mesh_.cells.size(), partition_.rank);
+  partition_.owned_cell.assign(mesh_.cells.size(), 1);
+  partition_.node_owner = part_->node_owner;
+  partition_.owned_cells = mesh_.cells.size();
+  partition_.owned_nodes = part_->owned_nodes;
+  hold_points(partition_.owned_cell);
+  assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
+}
+
+void Model::join() {
+  if (!part_) return;
+  exchange_ = std::make_shared<const NodeExchange>(*part_);
+  layout_ = NodalLayout::distributed(exchange_);
+  // The whole model's counts: each node counted by its owner.
+  total_points_ = static_cast<int>(par::sum(static_cast<long long>(n_points())));
+  global_[0] = par::sum(static_cast<long long>(part_->owned_nodes));
+  global_[1] = par::sum(static_cast<long long>(mesh_.cells.size()));
+  global_[2] = par::sum(static_cast<long long>(layout_.owned_free(dofs_.eq, 3)));
+  // A total force spreads over its region's whole area.
+  std::vector<double> area(case_->boundary.size(), 0.0);
+  for (const auto& [b, a] : part_areas_) area[b] += a;
+  par::sum_in_place(std::span<double>(area));
+  for (FaceLoad& load : face_loads_)
+    if (case_->boundary[load.boundary].kind == BoundaryKind::force) {
+      if (!(area[load.boundary] > 0))
+        throw std::logic_error("Model::join: a loaded region of zero area passed the checks");
+      load.scale = 1.0 / area[load.boundary];
+    }
+  // A probe belongs to the lowest rank that found it in its cells (a point on a face between
+  // two ranks' cells is in both).
+  for (Probe& p : probes_) {
+    const int owner = par::min(p.cell >= 0 ? partition_.rank : INT_MAX);
+    if (owner == INT_MAX)
+      throw std::logic_error("Model::join: a probe outside every part passed the checks");
+    if (owner != partition_.rank) p.cell = -1;
+  }
+  // A region carries a reaction where some rank prescribes a displacement in it.
+  for (ReactionRegion& r : reactions_) r.force = par::any(r.force);
 }
 
 void Model::set_partition(Partition partition) {
   partition_ = std::move(partition);
+  layout_ = partition_.parts > 1 ? NodalLayout::replicated() : NodalLayout();
   hold_points(partition_.owned_cell);
 }
 
@@ -194,7 +260,7 @@ void Model::bind_boundary() {
       continue;
     }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
-    if (r.cells.empty())
+    if (r.cells.empty() && !part_)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", r.name));
     double area = 0;
     for (int f : r.cells) {
@@ -225,20 +291,23 @@ void Model::bind_boundary() {
       const double sign = normal.dot(face_centre - cell_centre) >= 0 ? 1.0 : -1.0;
       face_loads_.push_back({f, static_cast<int>(b), sign, 1.0});
     }
-    if (bc.kind == BoundaryKind::force) {
+    if (bc.kind == BoundaryKind::force && part_) {
+      part_areas_.emplace_back(static_cast<int>(b), area);  // join() divides by the whole's
+    } else if (bc.kind == BoundaryKind::force) {
       if (!(area > 0))
         throw InputError(bc.where, fmt::format("region '{}' has zero area", r.name));
       for (auto it = face_loads_.end() - r.cells.size(); it != face_loads_.end(); ++it)
         it->scale = 1.0 / area;
     }
   }
+  dofs_ = DofMap::from_constraints(mesh_.n_nodes(), prescribed);
+  if (part_) return;  // a part may hold no support and no free dof: the whole model has both
   bool any = false;
   for (bool p : prescribed) any = any || p;
   if (!any)
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
-  dofs_ = DofMap::from_constraints(mesh_.n_nodes(), prescribed);
   if (dofs_.n_free == 0)
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "every degree of freedom is prescribed: there is nothing to solve");
@@ -274,13 +343,13 @@ void Model::bind_heat() {
     const HeatBoundarySpec& bc = heat.boundary[b];
     if (bc.kind == HeatBoundarySpec::Kind::temperature) {
       const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
-      if (r.nodes.empty())
+      if (r.nodes.empty() && !part_)
         throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
       for (int n : r.nodes) heat_fixed_[n] = static_cast<int>(b);
       continue;
     }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
-    if (r.cells.empty())
+    if (r.cells.empty() && !part_)
       throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",
                                              r.name, to_string(bc.kind)));
     for (int f : r.cells) {
@@ -486,7 +555,7 @@ void Model::bind_outputs() {
                          p.point, 1e-8, probe.xi))
         probe.cell = e;
     }
-    if (probe.cell < 0)
+    if (probe.cell < 0 && !part_)
       throw InputError(p.where, fmt::format("probe '{}' at ({:g}, {:g}, {:g}) is outside the mesh",
                                             p.name, p.point.x(), p.point.y(), p.point.z()));
     probes_.push_back(probe);
@@ -498,7 +567,7 @@ void Model::bind_outputs() {
       for (int d = 0; d < 3; ++d) any = any || dofs_.eq[3 * n + d] < 0;
     for (const auto& b : case_->heat.boundary)
       heat = heat || (b.kind == HeatBoundarySpec::Kind::temperature && b.region == r.name);
-    if (!any && !heat)
+    if (!any && !heat && !part_)
       throw InputError(out.reaction_where[k],
                        fmt::format("region '{}' has no prescribed displacement{}, so it carries "
                                    "no reaction",
@@ -544,6 +613,25 @@ namespace {
 
 void Model::external_forces(double t, std::vector<double>& f,
                             const std::vector<Vec3>* config) const {
+  if (layout_.kind() != NodalLayout::Kind::distributed) return own_external_forces(t, f, config);
+  // A part's loads, then the sums over the copies of its shared nodes. A load that overflows
+  // on one rank stops every rank: the one that found it says where.
+  std::exception_ptr error;
+  try {
+    own_external_forces(t, f, config);
+  } catch (const InputError&) {
+    error = std::current_exception();
+  }
+  if (par::any(error != nullptr)) {
+    if (error) std::rethrow_exception(error);
+    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                     "a load met an input error on another MPI rank");
+  }
+  layout_.sum(f, 3);
+}
+
+void Model::own_external_forces(double t, std::vector<double>& f,
+                                const std::vector<Vec3>* config) const {
   f.assign(3 * static_cast<std::size_t>(mesh_.n_nodes()), 0.0);
   std::vector<Vec3> x(max_cell_nodes), xc(max_cell_nodes);
   for (const FaceLoad& load : face_loads_) {

@@ -16,6 +16,8 @@
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
 #include "mesh/mesh.hpp"
+#include "parallel/mesh_part.hpp"
+#include "parallel/nodal_layout.hpp"
 #include "parallel/partition.hpp"
 #include "spec/case.hpp"
 
@@ -69,6 +71,25 @@ class Model {
  public:
   /// Binds the case to the mesh; throws InputError for everything that does not fit.
   Model(const Case& c, Mesh mesh, Log& log);
+  /// A rank's part of a model whose whole mesh was bound and checked on the rank that read it
+  /// (issue 21, docs/parallel.md): binds the case to the part alone. The checks that need the
+  /// whole mesh (a region empty, a probe outside the mesh, a body without supports) are that
+  /// model's; the figures of the whole (a total force's area, the owner of a probe, the global
+  /// counts) come with join(), which must follow on every rank. Not collective: a rank that
+  /// throws here lets the others know before join (app/main.cpp, together()).
+  Model(const Case& c, MeshPart part, Log& log);
+  /// Completes a part model with what the ranks know together (above). Collective.
+  void join();
+  /// The part's numbering against the whole mesh (its `mesh` is empty: the model holds it),
+  /// or nullptr for a model of the whole mesh.
+  const MeshPart* part() const { return part_ ? &*part_ : nullptr; }
+  /// The ghost exchange of a part's nodes (after join), or nullptr.
+  const NodeExchange* exchange() const { return exchange_.get(); }
+  /// The whole model's counts: nodes, volume cells and free dofs (this model's own without a
+  /// part).
+  long long global_nodes() const { return global_[0]; }
+  long long global_cells() const { return global_[1]; }
+  long long global_free() const { return global_[2]; }
 
   const Case& spec() const { return *case_; }
   const Mesh& mesh() const { return mesh_; }
@@ -92,9 +113,14 @@ class Model {
   /// points of its own cells (hold_points). Call before any State is made.
   void set_partition(Partition partition);
   const Partition& partition() const { return partition_; }
+  /// How this rank's nodal vectors stand to the whole model's: whole on one rank, replicated
+  /// once set_partition split the cells over several.
+  const NodalLayout& layout() const { return layout_; }
   const MaterialModel& material_of(int cell) const { return materials_[cell_material_[cell]]; }
   int material_index(int cell) const { return cell_material_[cell]; }
   const std::vector<MaterialModel>& materials() const { return materials_; }
+  /// Every probe of the case, in its order; on a part, a probe in another rank's cell has
+  /// cell -1.
   const std::vector<Probe>& probes() const { return probes_; }
   const std::vector<ReactionRegion>& reaction_regions() const { return reactions_; }
   double reference_temperature() const { return reference_temperature_; }
@@ -144,6 +170,8 @@ class Model {
   }
 
  private:
+  /// external_forces of this rank's faces and cells (the whole model's without a part).
+  void own_external_forces(double t, std::vector<double>& f, const std::vector<Vec3>* config) const;
   /// This rank stores the points of the cells with held[cell] != 0 only.
   void hold_points(const std::vector<char>& held);
   mutable std::optional<FactorEstimate> node_factor_;
@@ -163,11 +191,19 @@ class Model {
 
   const Case* case_;
   Mesh mesh_;
+  std::optional<MeshPart> part_;
+  long long global_[3] = {0, 0, 0};
+  /// On a part: this rank's area of each force boundary's region (join sums them), by index
+  /// into Case::boundary.
+  std::vector<std::pair<int, double>> part_areas_;
+  /// The ranks share one NodeExchange over the part's nodes (its layout's).
+  std::shared_ptr<const NodeExchange> exchange_;
   std::vector<MaterialModel> materials_;
   std::vector<int> cell_material_;
   std::vector<int> point_offset_;
   int total_points_ = 0;
   Partition partition_;
+  NodalLayout layout_;
   DofMap dofs_;
   std::unique_ptr<Assembler> assembler_;
   struct PrescribedDof {

@@ -193,7 +193,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
   r.negative_secant_cell = par::max(negative_secant_cell.load());
   r.inverted_cell = par::max(inverted_cell.load());
   r.tangent_changed = par::any(changed.load());
-  if (only_) par::sum_in_place(std::span<double>(trial.f_int));
+  m_.layout().sum(trial.f_int, 3);
   if (plastic_) measures(trial, r);
   return r;
 }
@@ -214,7 +214,7 @@ void PointPass::internal_forces(const State& s, const std::vector<Vec3>& config,
           kin.add_bt_sigma(q, s.stress[m_.point_offset(e) + q], kin.dv[q], b.fe);
       },
       f, only_);
-  if (only_) par::sum_in_place(std::span<double>(f));
+  m_.layout().sum(f, 3);
 }
 
 template <class F>

@@ -86,7 +86,7 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   // Every rank evaluates the probes in its own cells and, on an output step, writes the piece of
   // its own cells (results.hpp): each needs the nodal averages of its cells' nodes, ghost nodes
   // included. The sums go to every rank. A cell's means are its rank's alone.
-  par::sum_in_place(std::span<double>(nodal));
+  model.layout().sum(nodal, node_width);
   RecoveredFields f;
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
