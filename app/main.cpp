@@ -15,9 +15,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "core/interrupt.hpp"
 #include "core/log.hpp"
@@ -26,7 +28,9 @@
 #include "input/load_case.hpp"
 #include "output/checkpoint.hpp"
 #include "output/results.hpp"
+#include "parallel/mesh_part.hpp"
 #include "parallel/mpi.hpp"
+#include "parallel/partition.hpp"
 #include "solve/analysis.hpp"
 #include "solve/driver.hpp"
 
@@ -167,6 +171,13 @@ Restart restart_memory(const Model& model, const fs::path& dir, std::optional<do
   return r;
 }
 
+/// HENCKY_REPLICATED=1: every rank holds the whole mesh even where it could be distributed
+/// (for comparisons: the memory and time of the two ways, bench/).
+bool replicated_by_environment() {
+  const char* v = std::getenv("HENCKY_REPLICATED");
+  return v && *v && std::string(v) != "0";
+}
+
 int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         const std::string& petsc_options, const std::string& threads_warning,
         const std::string& restart, std::optional<double> from) {
@@ -178,34 +189,105 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   LoadedCase l;
   fs::path dir;  // the output directory, from -o or output.dir
   SourceLocation dir_where;
+  // On several ranks the mesh is distributed (docs/parallel.md): root reads it and checks the
+  // whole model, splits it and sends each rank its part; no rank holds the whole after. Not yet
+  // for contact, heat or a restart, which keep the whole mesh on every rank.
+  bool distribute = false;
+  LoadedCase whole;  // root's, while the mesh is distributed
+  std::unique_ptr<Case> spec;
+  long long case_print = 0;  // of the case file's text: the ranks must have read the same
   if (int code = together([&] {
-        auto spec = std::make_unique<Case>(read_case(case_path));
+        spec = std::make_unique<Case>(read_case(case_path));
         dir = out_dir.empty() ? spec->output.dir : command_line_dir(out_dir);
         dir_where = out_dir.empty() ? spec->output.dir_where : SourceLocation{"", 0, 0, "-o"};
         // Before the mesh (Gmsh may mesh for minutes) and the analysis: root writes the
         // outputs, and can.
         if (par::root()) check_output_dir(dir, dir_where);
-        l = load_case(std::move(spec), log);
+        distribute = par::size() > 1 && spec->contact.empty() && !spec->heat.given &&
+                     restart.empty() && !replicated_by_environment();
+        std::ifstream in(case_path, std::ios::binary);
+        std::ostringstream text;
+        text << in.rdbuf();
+        case_print = static_cast<long long>(std::hash<std::string>{}(text.str()) >> 1);
       }))
     return code;
-  // Every rank read its own copy of the case: they must all have read the same.
-  const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
-                              l.model->dofs().n_free};
-  for (long long v : shape)
-    if (par::max(v) != par::min(v)) {
-      if (par::root())
-        std::cerr << "error: the ranks read different models (node, element or unknown "
-                     "counts differ): give every rank the same case file and mesh\n";
-      return 1;
+  // A distributed mesh is read by root alone: the ranks compare their case files instead.
+  if (par::max(static_cast<int>(distribute)) != par::min(static_cast<int>(distribute)) ||
+      (distribute && par::max(case_print) != par::min(case_print))) {
+    if (par::root())
+      std::cerr << "error: the ranks read different models (their case files differ): give "
+                   "every rank the same case file and mesh\n";
+    return 1;
+  }
+  if (int code = together([&] {
+        if (!distribute)
+          l = load_case(std::move(spec), log);
+        else if (par::root())
+          whole = load_case(std::move(spec), log);
+        else
+          l.spec = std::move(spec);
+      }))
+    return code;
+  std::string mesh_line, parts_line;         // the whole mesh and its parts, for the log
+  std::optional<CheckpointMesh> whole_mesh;  // root's record of it, for the checkpoints
+  if (distribute) {
+    if (int code = together([&] {
+          if (par::root()) check_output_space(*whole.model, dir, dir_where, log);
+        }))
+      return code;
+    std::unique_ptr<Mesh> mesh;
+    std::vector<int> owner;
+    if (par::root()) {
+      const Model& m = *whole.model;
+      mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
+      owner = split_cells(m.mesh(), par::size());
+      whole_mesh = checkpoint_mesh(m.mesh());
+      mesh = std::make_unique<Mesh>(std::move(*whole.model).take_mesh());
+      whole.model.reset();
+      l.spec = std::move(whole.spec);
+      l.mesh_seconds = whole.mesh_seconds;
+      l.setup_seconds = whole.setup_seconds;
     }
+    MeshPart part = scatter_parts(mesh.get(), owner);
+    mesh.reset();
+    owner = {};
+    if (int code = together([&] {
+          Log quiet;  // root's whole model has said what there is to say
+          quiet.silent = true;
+          l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
+        }))
+      return code;
+    l.model->join();
+    const Partition& p = l.model->partition();
+    parts_line = fmt::format(
+        "distributed mesh: {} ranks, {} .. {} elements and {} .. {} nodes per rank "
+        "(owned; {} .. {} with the ghosts)",
+        par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
+        par::max(p.owned_nodes), par::min(l.model->mesh().n_nodes()),
+        par::max(l.model->mesh().n_nodes()));
+  } else {
+    // Every rank read its own copy of the case: they must all have read the same.
+    const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
+                                l.model->dofs().n_free};
+    for (long long v : shape)
+      if (par::max(v) != par::min(v)) {
+        if (par::root())
+          std::cerr << "error: the ranks read different models (node, element or unknown "
+                       "counts differ): give every rank the same case file and mesh\n";
+        return 1;
+      }
+    if (int code = together([&] {
+          if (par::root()) check_output_space(*l.model, dir, dir_where, log);
+        }))
+      return code;
+    mesh_line =
+        fmt::format("{}; {} unknowns", describe_mesh(l.model->mesh()), l.model->dofs().n_free);
+  }
   const Model& model = *l.model;
   const Case& c = *l.spec;
-  if (int code = together([&] {
-        if (par::root()) check_output_space(model, dir, dir_where, log);
-      }))
-    return code;
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
-  log.info("mesh: {}; {} unknowns", describe_mesh(model.mesh()), model.dofs().n_free);
+  log.info("mesh: {}", mesh_line);
+  if (!parts_line.empty()) log.info("{}", parts_line);
   for (const auto& line : describe_contact(model)) log.info("{}", line);
 
   std::unique_ptr<LinearSystem> solver;
@@ -236,7 +318,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         }
         if (c.output.checkpoint_every() > 0)
           checkpoints = std::make_unique<CheckpointWriter>(
-              model, writer ? writer->work_dir() : fs::path(), log, earlier);
+              model, writer ? writer->work_dir() : fs::path(), log, earlier, whole_mesh);
       }))
     return code;
   catch_interrupts(writer ? writer->work_dir() : fs::path());
@@ -278,9 +360,9 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   summary["iterations"] = result.iterations;
   summary["factorizations"] = result.factorizations;
   summary["scheme"] = scheme_name(c.solver.scheme);
-  summary["dofs"] = model.dofs().n_free;
-  summary["nodes"] = model.mesh().n_nodes();
-  summary["elements"] = model.mesh().cells.size();
+  summary["dofs"] = model.global_free();
+  summary["nodes"] = model.global_nodes();
+  summary["elements"] = model.global_cells();
   summary["integration_points"] = model.total_points();
   summary["threads"] = omp_get_max_threads();
   summary["ranks"] = par::size();

@@ -184,10 +184,76 @@ void for_each_held_point(const Model& model, const std::vector<long long>& off, 
   }
 }
 
+/// Every rank's `mine`, on root in rank order (empty elsewhere). Collective.
+std::vector<std::vector<double>> gather_doubles(const std::vector<double>& mine) {
+  const std::vector<std::string> all = par::gather_strings(
+      std::string(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(double)));
+  std::vector<std::vector<double>> out;
+  for (const std::string& bytes : all) {
+    std::vector<double>& v = out.emplace_back(bytes.size() / sizeof(double));
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(double));
+  }
+  return out;
+}
+
+/// A nodal array of `width` values a node in the whole mesh's order: the model's own, or on a
+/// distributed mesh the owners' values gathered on root (empty elsewhere; collective then).
+std::vector<double> whole_nodal(const Model& model, std::span<const double> v, int width) {
+  const MeshPart* part = model.part();
+  if (!part) return {v.begin(), v.end()};
+  std::vector<double> ids(part->global_node.begin(), part->global_node.begin() + part->owned_nodes);
+  const auto all_ids = gather_doubles(ids);
+  const auto all_values = gather_doubles(std::vector<double>(
+      v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * part->owned_nodes));
+  std::vector<double> out;
+  if (!par::root()) return out;
+  out.assign(static_cast<std::size_t>(width) * model.global_nodes(), 0.0);
+  for (std::size_t r = 0; r < all_ids.size(); ++r)
+    for (std::size_t i = 0; i < all_ids[r].size(); ++i)
+      for (int k = 0; k < width; ++k)
+        out[width * static_cast<std::size_t>(all_ids[r][i]) + k] = all_values[r][width * i + k];
+  return out;
+}
+
+/// gather() on a distributed mesh: each rank sends, cell by cell, the cell's whole-mesh index,
+/// its number of points and their values; root orders them by cell.
+std::vector<double> gather_part(const Model& model, int width,
+                                const std::function<void(int, double*)>& get) {
+  const MeshPart& part = *model.part();
+  std::vector<double> mine;
+  std::vector<double> buffer(width);
+  for (int e = 0; e < model.mesh().cells.size(); ++e) {
+    const int n = model.point_offset(e + 1) - model.point_offset(e);
+    mine.push_back(part.global_cell[e]);
+    mine.push_back(n);
+    for (int q = 0; q < n; ++q) {
+      get(model.point_offset(e) + q, buffer.data());
+      mine.insert(mine.end(), buffer.begin(), buffer.end());
+    }
+  }
+  const auto all = gather_doubles(mine);
+  std::vector<double> out;
+  if (!par::root()) return out;
+  std::vector<long long> off(model.global_cells() + 1, 0);
+  for (const auto& r : all)
+    for (std::size_t i = 0; i < r.size(); i += 2 + width * static_cast<std::size_t>(r[i + 1]))
+      off[static_cast<std::size_t>(r[i]) + 1] = static_cast<long long>(r[i + 1]);
+  for (std::size_t c = 0; c + 1 < off.size(); ++c) off[c + 1] += off[c];
+  out.assign(static_cast<std::size_t>(off.back()) * width, 0.0);
+  for (const auto& r : all)
+    for (std::size_t i = 0; i < r.size(); i += 2 + width * static_cast<std::size_t>(r[i + 1])) {
+      const std::size_t n = width * static_cast<std::size_t>(r[i + 1]);
+      std::copy(r.begin() + i + 2, r.begin() + i + 2 + n,
+                out.begin() + off[static_cast<std::size_t>(r[i])] * width);
+    }
+  return out;
+}
+
 /// A per-point quantity of `width` numbers, this rank's points → the whole mesh's order on
 /// root (collective).
 std::vector<double> gather(const Model& model, const std::vector<long long>& off, int width,
                            const std::function<void(int, double*)>& get) {
+  if (model.part()) return gather_part(model, width, get);
   std::vector<double> g(static_cast<std::size_t>(off.back()) * width, 0.0);
   for_each_held_point(model, off, [&](int p, long long i) { get(p, &g[i * width]); });
   par::sum_to_root(g);
@@ -338,33 +404,47 @@ std::string file_name(int step) {
 
 // ---------------------------------------------------------------------------------------------
 
-CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory& run) {
+CheckpointMesh checkpoint_mesh(const Mesh& mesh) {
+  const Named r = regions_of(mesh);
+  return {mesh_fingerprint(mesh), r.names, r.prints, mesh.n_nodes(), mesh.cells.size()};
+}
+
+CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory& run,
+                             const CheckpointMesh* whole) {
   CheckpointFile f;
-  const Mesh& mesh = model.mesh();
+  if (model.part() && par::root() && !whole)
+    throw std::logic_error("checkpoint_of: a distributed mesh needs the whole mesh's record");
+  const CheckpointMesh mesh = whole          ? *whole
+                              : model.part() ? CheckpointMesh{}
+                                             : checkpoint_mesh(model.mesh());
   f.put("hencky", std::string(HENCKY_VERSION));
   f.put("title", model.spec().title);
   f.put("case", model.spec().file.string());
   f.put("ranks", static_cast<std::int64_t>(par::size()));
-  f.put("mesh.fingerprint", mesh_fingerprint(mesh));
-  f.put("mesh.nodes", static_cast<std::int64_t>(mesh.n_nodes()));
-  f.put("mesh.cells", static_cast<std::int64_t>(mesh.cells.size()));
-  put_named(f, "regions", regions_of(mesh));
+  f.put("mesh.fingerprint", mesh.fingerprint);
+  f.put("mesh.nodes", static_cast<std::int64_t>(mesh.nodes));
+  f.put("mesh.cells", static_cast<std::int64_t>(mesh.cells));
+  put_named(f, "regions", Named{mesh.region_names, mesh.region_prints});
   put_named(f, "materials", materials_of(model.spec()));
   f.put("time", s.time);
   const std::int64_t counts[3] = {run.steps, run.iterations, run.factorizations};
   f.put("counts", std::span<const std::int64_t>(counts));
   f.put("force_integral", s.force_integral);
-  // Nodal data: whole on every rank.
-  f.put("u", std::span<const double>(s.u));
-  f.put("nodal_temperature", std::span<const double>(s.nodal_temperature));
+  // Nodal data: whole on every rank, or gathered from a distributed mesh's owners.
+  const auto nodal = [&](const char* key, const std::vector<double>& v, int width) {
+    if (!model.part()) return f.put(key, std::span<const double>(v));
+    f.put(key, std::span<const double>(whole_nodal(model, v, width)));
+  };
+  nodal("u", s.u, 3);
+  nodal("nodal_temperature", s.nodal_temperature, 1);
   f.put("heat_flow", std::span<const double>(s.heat_flow));
-  f.put("f_ext", std::span<const double>(s.f_ext));
-  f.put("f_int", std::span<const double>(s.f_int));
-  f.put("f_contact", std::span<const double>(s.f_contact));
+  nodal("f_ext", s.f_ext, 3);
+  nodal("f_int", s.f_int, 3);
+  nodal("f_contact", s.f_contact, 3);
   put_contact(f, "contact", s.contact);
   // Point data, in the whole mesh's order.
-  const auto off = global_offsets(model);
-  f.put("points", static_cast<std::int64_t>(off.back()));
+  const auto off = model.part() ? std::vector<long long>{0} : global_offsets(model);
+  f.put("points", static_cast<std::int64_t>(model.total_points()));
   f.put("points.stress",
         gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
   f.put("points.temperature",
@@ -384,7 +464,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   if (!eq.last_du.empty())
     for (int i = 0; i < dofs.n_dofs(); ++i)
       if (const int k = dofs.eq[i]; k >= 0) du[i] = eq.last_du[k];
-  f.put("equilibrium.last_du", std::span<const double>(du));
+  nodal("equilibrium.last_du", du, 3);
   f.put("equilibrium.last_dt", eq.last_dt);
   f.put("equilibrium.factorized", static_cast<std::int64_t>(eq.factorized));
   const bool tangents = !eq.tangents.empty();
@@ -606,8 +686,13 @@ CheckpointFile read_checkpoint(const fs::path& file) {
 }
 
 CheckpointWriter::CheckpointWriter(const Model& model, const fs::path& dir, Log& log,
-                                   std::vector<CheckpointEntry> earlier)
-    : model_(model), dir_(dir / "checkpoints"), log_(log), entries_(std::move(earlier)) {
+                                   std::vector<CheckpointEntry> earlier,
+                                   std::optional<CheckpointMesh> whole)
+    : model_(model),
+      dir_(dir / "checkpoints"),
+      log_(log),
+      whole_(std::move(whole)),
+      entries_(std::move(earlier)) {
   if (!par::root()) return;
   fs::create_directories(dir_);
   if (!entries_.empty()) write_index();
@@ -620,7 +705,8 @@ bool CheckpointWriter::due(const StepReport& report) const {
 
 void CheckpointWriter::write(const State& committed, const RunMemory& run) {
   if (model_.spec().output.checkpoint_every() == 0) return;
-  const CheckpointFile f = checkpoint_of(model_, committed, run);  // collective
+  const CheckpointFile f =
+      checkpoint_of(model_, committed, run, whole_ ? &*whole_ : nullptr);  // collective
   if (!par::root()) return;
   const std::string name = file_name(run.steps);
   // Straight from the records to the file: no serialized copy (72 MB at 366k unknowns).

@@ -14,6 +14,7 @@
 // not hardened against damaged files (ours is fuzzed: fuzz/), is read back with the same
 // checks as every other input, and its layout is written down in checkpoint_file.hpp.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,21 @@
 
 namespace hencky {
 
+/// What a checkpoint records of the whole mesh (its fingerprint, its regions', its counts): on a
+/// distributed mesh, taken by the rank that read the mesh before it sent the parts out.
+struct CheckpointMesh {
+  std::int64_t fingerprint = 0;
+  std::vector<std::string> region_names;
+  std::vector<std::int64_t> region_prints;
+  long long nodes = 0, cells = 0;
+};
+CheckpointMesh checkpoint_mesh(const Mesh& mesh);
+
 /// The file's record of `run`; point data gathered from every rank (collective; the result is
-/// complete on root only).
-CheckpointFile checkpoint_of(const Model& model, const State& committed, const RunMemory& run);
+/// complete on root only). On a distributed mesh (Model::part) the nodal data is gathered too,
+/// in the whole mesh's order, and `whole` (root's) describes the mesh.
+CheckpointFile checkpoint_of(const Model& model, const State& committed, const RunMemory& run,
+                             const CheckpointMesh* whole = nullptr);
 
 /// The run a checkpoint continues: InputError naming what differs when the model's mesh,
 /// regions, materials, contacts or heat section are not those the checkpoint was written
@@ -52,8 +65,10 @@ CheckpointFile read_checkpoint(const std::filesystem::path& file);
 class CheckpointWriter final : public CheckpointSink {
  public:
   /// `earlier`: checkpoints carried over from the run a restart continues (already in `dir`).
+  /// `whole`: the whole mesh's record, on root, when the model is a rank's part.
   CheckpointWriter(const Model& model, const std::filesystem::path& dir, Log& log,
-                   std::vector<CheckpointEntry> earlier = {});
+                   std::vector<CheckpointEntry> earlier = {},
+                   std::optional<CheckpointMesh> whole = std::nullopt);
   bool due(const StepReport& report) const override;
   void write(const State& committed, const RunMemory& run) override;
   int written() const { return written_; }
@@ -63,6 +78,7 @@ class CheckpointWriter final : public CheckpointSink {
   const Model& model_;
   std::filesystem::path dir_;
   Log& log_;
+  std::optional<CheckpointMesh> whole_;
   std::vector<CheckpointEntry> entries_;
   int written_ = 0;
 };

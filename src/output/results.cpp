@@ -129,7 +129,7 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
   const auto& probes = model.probes();
   std::vector<double> probe_numbers;
   for (const Probe& p : probes) {
-    const ProbeValues v = part.cell_owner[p.cell] == part.rank
+    const ProbeValues v = p.cell >= 0 && part.cell_owner[p.cell] == part.rank
                               ? probe_values(model, p, state, fields)
                               : ProbeValues{};
     each_number(v, [&](double x) { probe_numbers.push_back(x); });
@@ -484,6 +484,7 @@ FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
   // then the ghosts).
   if (model_.partition().parts != par::size())
     throw std::logic_error("FieldsWriter: the model is not split over the ranks");
+  if (model_.part()) return;  // the model's mesh is the piece (write() finds the ranks)
   MeshPart part = extract_part(model_.mesh(), model_.partition());
   cells_ = std::move(part.global_cell);
   nodes_ = std::move(part.global_node);
@@ -504,6 +505,15 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
     write_file(dir_ / (stem + ".vtu"), state, fields);
     return stem + ".vtu";
   }
+  if (ranks_with_cells_.empty()) {
+    // A distributed mesh: which ranks have cells (collective, as write() is; the constructor
+    // runs on root alone first).
+    std::vector<double> has_cells(par::size(), 0.0);
+    has_cells[par::rank()] = model_.partition().owned_cells > 0;
+    par::sum_in_place(std::span<double>(has_cells));
+    for (int r = 0; r < par::size(); ++r)
+      if (has_cells[r] > 0) ranks_with_cells_.push_back(r);
+  }
   // Every rank with cells writes its piece into step_NNNN/; root then lists them.
   Layout layout;
   std::string failure;
@@ -513,7 +523,7 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
     fs::create_directories(folder, ec);  // several ranks at once: one creates it
     if (ec && !fs::is_directory(folder))
       throw OutputError(fmt::format("cannot create {}: {}", folder.string(), ec.message()));
-    if (!cells_.empty())
+    if (model_.partition().owned_cells > 0)
       layout = write_file(folder / fmt::format("rank_{}.vtu", par::rank()), state, fields);
   } catch (const OutputError& e) {
     failure = e.what();
@@ -527,7 +537,7 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
     throw OutputError(why.empty() ? std::string("another rank could not write its fields") : why);
   }
   if (!par::root()) return {};
-  if (cells_.empty())  // root lists the pieces whether or not it holds cells
+  if (model_.partition().owned_cells == 0)  // root lists the pieces whether or not it has cells
     layout = write_file({}, state, fields);
   std::vector<std::string> pieces;
   for (int r : ranks_with_cells_) pieces.push_back(fmt::format("{}/rank_{}.vtu", stem, r));
@@ -538,7 +548,8 @@ std::string FieldsWriter::write(const StepReport& report, const State& state,
 FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State& state,
                                               const RecoveredFields& fields) {
   const auto& mesh = model_.mesh();
-  const bool whole = !pieces_;
+  // The model's own mesh: the whole one, or the part of a distributed one (which is the piece).
+  const bool whole = !pieces_ || model_.part();
   const int n = whole ? mesh.n_nodes() : static_cast<int>(nodes_.size()),
             n_cells = whole ? mesh.cells.size() : static_cast<int>(cells_.size());
   const auto node = [&](int i) { return whole ? i : nodes_[i]; };
@@ -619,8 +630,11 @@ FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State&
       {"plastic_zone", 1, at_cells(fields.cell_plastic_zone)}};
   const VtuIntField int_fields[] = {{"material", material}, {"region", region}};
   if (!path.empty()) {
-    if (whole)
+    if (!pieces_)
       write_vtu(path, mesh.x, mesh.cells, point_fields, cell_fields, int_fields);
+    else if (whole)
+      write_vtu(path, mesh.x, mesh.cells, point_fields, cell_fields, int_fields,
+                VtuGlobalIds{mesh.node_tag, mesh.cells.tag});
     else
       write_vtu(path, x_, cell_set_, point_fields, cell_fields, int_fields,
                 VtuGlobalIds{node_tag_, cell_tag_});

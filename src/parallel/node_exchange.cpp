@@ -16,6 +16,9 @@ struct NodeExchange::Impl {
   /// One committed MPI type per width (3 doubles a node, 1, 6, ...), made on first use.
   mutable std::map<int, MPI_Datatype> types;
   MPI_Datatype type(int width) const {
+    // One value a node is MPI_DOUBLE itself: PETSc's reductions refused Open MPI's contiguous
+    // type of one double (MPI_ERR_OP).
+    if (width == 1) return MPI_DOUBLE;
     auto it = types.find(width);
     if (it != types.end()) return it->second;
     MPI_Datatype t;

@@ -20,12 +20,18 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// The diagonal of the mesh's bounding box.
-double model_size(const Mesh& mesh) {
-  Vec3 lo = mesh.x.front(), hi = lo;
+/// The diagonal of the mesh's bounding box (the whole mesh's, when `layout` distributes it).
+double model_size(const Mesh& mesh, const NodalLayout& layout) {
+  Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
   for (const Vec3& p : mesh.x) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
+  }
+  if (layout.kind() == NodalLayout::Kind::distributed) {
+    double box[6] = {-lo.x(), -lo.y(), -lo.z(), hi.x(), hi.y(), hi.z()};
+    par::max_in_place(std::span<double>(box));
+    lo = -Vec3(box[0], box[1], box[2]);
+    hi = Vec3(box[3], box[4], box[5]);
   }
   return (hi - lo).norm();
 }
@@ -96,7 +102,7 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // iteration with contact); the fixed-matrix schemes have Anderson's mixing instead.
   line_search_ =
       plastic_ && m.spec().solver.line_search && scheme_->kind() == SchemeKind::variable_stiffness;
-  if (plastic_) model_size_ = model_size(m.mesh());
+  if (plastic_) model_size_ = model_size(m.mesh(), layout_);
   updated_ = m.spec().solver.updated_geometry;
   x_ = m.mesh().x;
   if (m.has_temperature())
@@ -362,12 +368,12 @@ double Equilibrium::correction(double t1) const {
 /// An iterate whose stress left the strain form's range at some point has no answer of the
 /// scheme (a step's start is spared: the elastic start replaces it).
 void Equilibrium::require_strain_form(const Evaluation& ev) const {
-  if (const int e = ev.points.undefined_cell; e >= 0)
+  if (const Model::CellFacts e = m_.cell_facts(ev.points.undefined_cell); e.tag >= 0)
     throw SolveError(fmt::format(
         "scheme '{}' needs the strain form ε̃ = F(σ̃) of the curve of material '{}' above the "
         "largest stress the curve reaches (element {}): F is not defined there (perfect "
         "plasticity, a table's flat end). The schemes that can run it: {}",
-        scheme_->name(), m_.material_of(e).spec->name, m_.mesh().cells.tag[e],
+        scheme_->name(), m_.materials()[e.material].spec->name, e.tag,
         schemes_without_strain_form));
 }
 
@@ -377,12 +383,12 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
   auto t0 = Clock::now();
   ev.points = points_.update(c, trial, x_, elastic);
   timings_.material += seconds_since(t0);
-  if (const int e = ev.points.inverted_cell; e >= 0)
+  if (const Model::CellFacts e = m_.cell_facts(ev.points.inverted_cell); e.tag >= 0)
     throw SolveError(fmt::format(
         "element {} is turned inside out at t = {:g} or halfway through the step to t = {:g} "
         "(geometry: updated): the step moved its nodes past each other; smaller steps may "
         "follow the deformation, a mesh this distorted will not",
-        m_.mesh().cells.tag[e], c.time, trial.time));
+        e.tag, c.time, trial.time));
   negative_secant_cell_ = ev.points.negative_secant_cell;
   if (contact_.active() && update_contact) {
     t0 = Clock::now();
@@ -652,6 +658,9 @@ void Equilibrium::mix(State& trial) {
     points_.plastic_point_weights(point_weights_);
     std::copy(point_weights_.begin(), point_weights_.end(), mix_weights_.begin() + n_u);
   }
+  // A distributed mesh: a ghost's rows are its owner's (weight 0 here).
+  const bool distributed = layout_.kind() == NodalLayout::Kind::distributed;
+  if (distributed) std::fill(mix_weights_.begin() + own_free_, mix_weights_.begin() + n_u, 0.0);
   // Every rank holds every contact node: its rows, summed over the ranks, count once.
   const double share = only_ ? 1.0 / par::size() : 1.0;
   for (std::size_t j = 0; j < n_c; ++j) mix_weights_[n_u + n_l + j] = share * contact_weights_[j];
@@ -668,9 +677,10 @@ void Equilibrium::mix(State& trial) {
     mix_x_[n_u + n_l + j] = contact_in_[j];
     mix_f_[n_u + n_l + j] = contact_out_[j] - contact_in_[j];
   }
-  // The displacements are whole on every rank; the points are each rank's own.
+  // The displacements are whole on every rank, or a distributed mesh's own rows on each; the
+  // points are each rank's own.
   std::function<void(std::span<double>)> reduce;
-  if (strains && only_) reduce = [](std::span<double> v) { par::sum_in_place(v); };
+  if ((strains && only_) || distributed) reduce = [](std::span<double> v) { par::sum_in_place(v); };
   anderson_.accelerate(mix_x_, mix_f_, mix_weights_, reduce);
   std::copy(mix_f_.begin(), mix_f_.begin() + n_u, delta_.begin());
   if (strains) {
@@ -786,6 +796,7 @@ void Equilibrium::factorize() {
     system_.factorize();
   } catch (const LinearSystemError& e) {
     if (negative_secant_cell_ < 0) throw;
+    const Model::CellFacts cell = m_.cell_facts(negative_secant_cell_);
     // variable-stiffness with a negative secant: say why the matrix is indefinite (a plain
     // SolveError: the step failed, the supports are not to blame).
     throw SolveError(fmt::format(
@@ -793,8 +804,7 @@ void Equilibrium::factorize() {
         "'{}' at element {} (the stress at the start of the step lies above the curve along "
         "the step's flow direction, as a strong turn of the stress under an indenter leaves "
         "it); use newton or initial-stress",
-        e.what(), m_.material_of(negative_secant_cell_).spec->name,
-        m_.mesh().cells.tag[negative_secant_cell_]));
+        e.what(), m_.materials()[cell.material].spec->name, cell.tag));
   }
   ++factorizations_;
   factorized_ = true;

@@ -37,10 +37,16 @@ void throw_not_finite(const Model& m, const State& s, int iteration, double resi
       "the solution left the range of floating point (a load, a prescribed displacement or a "
       "temperature far too large for the material, or an iteration that diverged)";
   const auto at_node = [&](const char* what, const std::vector<double>& v) {
-    const long long i = par::min(first_dof(v));
-    if (i == LLONG_MAX) return;
+    // The first dof: the model's index where the mesh is whole on every rank; on a part, as
+    // the mesh file numbers it, 3 × tag + direction (a part's indices are its own).
+    const long long i = first_dof(v);
+    long long code = i;
+    if (m.part() && i != LLONG_MAX) code = 3LL * mesh.node_tag[i / 3] + i % 3;
+    code = par::min(code);
+    if (code == LLONG_MAX) return;
+    const long tag = m.part() ? static_cast<long>(code / 3) : mesh.node_tag[code / 3];
     throw SolveError(fmt::format("a NaN or an infinity appeared in the {} at node {} ({}) {}: {}",
-                                 what, mesh.node_tag[i / 3], "xyz"[i % 3], when, why));
+                                 what, tag, "xyz"[code % 3], when, why));
   };
   at_node("external forces", s.f_ext);
   at_node("displacement", s.u);
@@ -51,16 +57,16 @@ void throw_not_finite(const Model& m, const State& s, int iteration, double resi
       const bool stress = !s.stress[p].allFinite() || !std::isfinite(s.temperature[p]);
       if (stress || !s.plastic_strain[p].allFinite() || !std::isfinite(s.eps_p_eq[p]) ||
           !std::isfinite(s.eps_ep[p])) {
-        cell_code = 2LL * e + (stress ? 0 : 1);
+        cell_code = 2LL * m.agreed_index(e) + (stress ? 0 : 1);
         break;
       }
     }
   if (const long long cc = par::min(cell_code); cc != LLONG_MAX) {
-    const int e = static_cast<int>(cc / 2);
+    const Model::CellFacts e = m.cell_facts(static_cast<int>(cc / 2));
     throw SolveError(
         fmt::format("a NaN or an infinity appeared in the {} at element {} (material '{}') {}: {}",
-                    cc % 2 == 0 ? "stress" : "plastic strain", mesh.cells.tag[e],
-                    m.material_of(e).spec->name, when, why));
+                    cc % 2 == 0 ? "stress" : "plastic strain", e.tag,
+                    m.materials()[e.material].spec->name, when, why));
   }
   at_node("internal forces", s.f_int);
   at_node("contact forces", s.f_contact);

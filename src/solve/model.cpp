@@ -417,8 +417,30 @@ bool Model::thermal_in_range(int mi, const ElasticConstants& k, double T) const 
   return std::isfinite(strain) && std::isfinite(k.E / (1 - 2 * k.nu) * strain);
 }
 
+int Model::agreed_cell(int found) const {
+  const int lowest = par::min(found >= 0 ? agreed_index(found) : INT_MAX);
+  return lowest == INT_MAX ? -1 : lowest;
+}
+
+Model::CellFacts Model::cell_facts(int agreed) const {
+  if (agreed < 0) return {};
+  if (!part_) return {mesh_.cells.tag[agreed], cell_material_[agreed]};
+  // The part's cells are in the whole mesh's order: its owner finds it by bisection.
+  const auto& g = part_->global_cell;
+  const auto it = std::lower_bound(g.begin(), g.end(), agreed);
+  const bool mine = it != g.end() && *it == agreed;
+  const int e = static_cast<int>(it - g.begin());
+  const long long facts[2] = {par::max(mine ? static_cast<long long>(mesh_.cells.tag[e]) : -1LL),
+                              par::max(mine ? static_cast<long long>(cell_material_[e]) : -1LL)};
+  return {static_cast<long>(facts[0]), static_cast<int>(facts[1])};
+}
+
 void Model::thermal_out_of_range(int cell, double T, double t) const {
-  const int mi = cell_material_[cell];
+  thermal_out_of_range(CellFacts{mesh_.cells.tag[cell], cell_material_[cell]}, T, t);
+}
+
+void Model::thermal_out_of_range(const CellFacts& cell, double T, double t) const {
+  const int mi = cell.material;
   const ElasticConstants k = materials_[mi].at(T);
   const double strain = k.thermal_strain(T) - reference_strain_[mi];
   const auto& ts = case_->temperature;
@@ -428,7 +450,7 @@ void Model::thermal_out_of_range(int cell, double T, double t) const {
                   "alpha(T)*T - alpha(T_ref)*T_ref = {:g} (alpha = {:g}, T_ref = {:g}) and, fully "
                   "restrained, the stress E/(1 - 2nu) times that = {:g}: beyond the range of "
                   "floating point; check the temperatures' magnitude and units",
-                  T, mesh_.cells.tag[cell], materials_[mi].spec->name,
+                  T, cell.tag, materials_[mi].spec->name,
                   std::isnan(t) ? std::string() : fmt::format(", t = {:g}", t), strain, k.alpha,
                   reference_temperature_, k.E / (1 - 2 * k.nu) * strain));
 }

@@ -80,11 +80,27 @@ class Model {
   Model(const Case& c, MeshPart part, Log& log);
   /// Completes a part model with what the ranks know together (above). Collective.
   void join();
+  /// The mesh, moved out: what the rank that read it sends out in parts once the whole model
+  /// has checked it. The model is of no use after.
+  Mesh take_mesh() && { return std::move(mesh_); }
   /// The part's numbering against the whole mesh (its `mesh` is empty: the model holds it),
   /// or nullptr for a model of the whole mesh.
   const MeshPart* part() const { return part_ ? &*part_ : nullptr; }
   /// The ghost exchange of a part's nodes (after join), or nullptr.
   const NodeExchange* exchange() const { return exchange_.get(); }
+  /// A cell the ranks agree on, from what each found (its own index of a cell, or -1): the
+  /// lowest found, as agreed_index() numbers it (Model::cell_facts tells its tag and
+  /// material). -1 when no rank found one. Collective.
+  int agreed_cell(int found) const;
+  /// This model's index of its cell where the mesh is whole on every rank, else the whole
+  /// mesh's.
+  int agreed_index(int cell) const { return part_ ? part_->global_cell[cell] : cell; }
+  struct CellFacts {
+    long tag = -1;      ///< the mesh file's number
+    int material = -1;  ///< index into materials()
+  };
+  /// The tag and material of an agreed cell (collective on a distributed mesh: its owner says).
+  CellFacts cell_facts(int agreed) const;
   /// The whole model's counts: nodes, volume cells and free dofs (this model's own without a
   /// part).
   long long global_nodes() const { return global_[0]; }
@@ -163,6 +179,8 @@ class Model {
   /// The InputError, at the temperature field's key, for a temperature T of `cell` at time t
   /// that thermal_in_range refuses (t NaN: at every time).
   [[noreturn]] void thermal_out_of_range(int cell, double T, double t) const;
+  /// The same for a cell of `facts` (any rank's).
+  [[noreturn]] void thermal_out_of_range(const CellFacts& facts, double T, double t) const;
   /// The thermal strain α(T)·T − α(T_ref)·T_ref (volumetric) of `cell`'s material with the
   /// constants k at T: the strain of (1.14) accumulated from the reference state.
   double thermal_strain(int cell, const ElasticConstants& k, double T) const {

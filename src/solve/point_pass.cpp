@@ -61,10 +61,10 @@ void PointPass::temperatures(State& s, Log& log) const {
     }
   }
   // An input error, before the step is solved; every rank reports the model's first such cell.
-  if (const int first = par::min(bad_cell < 0 ? INT_MAX : bad_cell); first != INT_MAX) {
-    double T = first == bad_cell ? bad_T : -INFINITY;
+  if (const int cell = m_.agreed_cell(bad_cell); cell >= 0) {
+    double T = bad_cell >= 0 && m_.agreed_index(bad_cell) == cell ? bad_T : -INFINITY;
     par::max_in_place(std::span<double>(&T, 1));
-    m_.thermal_out_of_range(first, T, s.time);
+    m_.thermal_out_of_range(m_.cell_facts(cell), T, s.time);
   }
   par::min_in_place(std::span<double>(t_min));
   par::max_in_place(std::span<double>(t_max));
@@ -189,9 +189,9 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
       trial.f_int, only_);
   // Every rank takes the same decisions: the flags and the failing cells over all ranks.
   PointPassResult r;
-  r.undefined_cell = par::max(undefined_cell.load());
-  r.negative_secant_cell = par::max(negative_secant_cell.load());
-  r.inverted_cell = par::max(inverted_cell.load());
+  r.undefined_cell = m_.agreed_cell(undefined_cell.load());
+  r.negative_secant_cell = m_.agreed_cell(negative_secant_cell.load());
+  r.inverted_cell = m_.agreed_cell(inverted_cell.load());
   r.tangent_changed = par::any(changed.load());
   m_.layout().sum(trial.f_int, 3);
   if (plastic_) measures(trial, r);

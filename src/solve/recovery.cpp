@@ -22,7 +22,8 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   const int node_width = plastic ? 6 * n_tensors + 8 : 6 * n_tensors, cell_width = 9;
   std::vector<double> nodal(static_cast<std::size_t>(node_width) * n_nodes, 0.0);
   std::vector<double> cells(with_cells ? static_cast<std::size_t>(cell_width) * n_cells : 0);
-  std::vector<int> count(n_nodes, 0);  // cells at each node, over all ranks (the mesh is whole)
+  // Cells at each node, over all ranks: the mesh's own count, unless it is a rank's part.
+  std::vector<double> count(n_nodes, 0.0);
   CellKinematics kin;
   Vec3 x[max_cell_nodes];
   double u[3 * max_cell_nodes];
@@ -87,6 +88,7 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   // its own cells (results.hpp): each needs the nodal averages of its cells' nodes, ghost nodes
   // included. The sums go to every rank. A cell's means are its rank's alone.
   model.layout().sum(nodal, node_width);
+  if (model.layout().kind() == NodalLayout::Kind::distributed) model.layout().sum(count, 1);
   RecoveredFields f;
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
