@@ -1028,9 +1028,10 @@ def render(res: dict) -> str:
     out += [f"- **warning**: {w}" for w in res.get("warnings", [])] + [""]
     out.append("Configurations: `hencky run case.yaml` on one process (CHOLMOD; or PETSc through "
                "`solver.linear: petsc`, on one core), `mpirun -np 2 --bind-to none -x OMP_NUM_THREADS=1 hencky run` "
-               "(`linear: petsc` → CG + GAMG, `linear: direct` → MUMPS). Every rank reads the whole mesh and "
-               "keeps full-length nodal vectors and integration-point arrays; the element work, the matrix and "
-               "the linear solve are distributed (docs/parallel.md).\n")
+               "(`linear: petsc` → CG + GAMG, `linear: direct` → MUMPS). Since commit 360d72b the elastic and "
+               "plastic cases run on a distributed mesh (rank 0 reads it and sends each rank its part; "
+               "HENCKY_REPLICATED=1 keeps the whole mesh on every rank, as before); the element work, the matrix "
+               "and the linear solve are distributed either way (docs/parallel.md).\n")
     for part, fn in (("gamg", render_gamg), ("scaling", render_scaling), ("largest", render_largest), ("ccx", render_ccx),
                      ("memory", render_memory)):
         if part in res["parts"]:

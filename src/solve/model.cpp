@@ -40,8 +40,9 @@ void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
   }
 }
 
-Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(mesh)) {
-  reference_temperature_ = c.temperature.given ? c.temperature.reference : 0.0;
+/// Everything the case says, bound to the mesh (or the part) and checked.
+void Model::bind(Log& log) {
+  reference_temperature_ = case_->temperature.given ? case_->temperature.reference : 0.0;
   bind_materials(log);
   check_cells();
   bind_boundary();
@@ -50,6 +51,10 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   bind_heat();
   bind_outputs();
   bind_contact();
+}
+
+Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(mesh)) {
+  bind(log);
   set_partition(partition_from(mesh_, std::vector<int>(mesh_.cells.size(), 0), 1, 0));
   total_points_ = n_points();
   assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
@@ -64,15 +69,7 @@ Model::Model(const Case& c, MeshPart part, Log& log) : case_(&c), mesh_(std::mov
   if (part_->node_owner.size() != static_cast<std::size_t>(mesh_.n_nodes()) ||
       part_->owned_nodes > mesh_.n_nodes())
     throw std::invalid_argument("Model: the part's owners do not match its nodes");
-  reference_temperature_ = c.temperature.given ? c.temperature.reference : 0.0;
-  bind_materials(log);
-  check_cells();
-  bind_boundary();
-  bind_temperature();
-  check_temperature_range();
-  bind_heat();
-  bind_outputs();
-  bind_contact();
+  bind(log);
   // Every cell of the part is this rank's, and so are its points.
   partition_.parts = par::size();
   partition_.rank = par::rank();

@@ -193,6 +193,7 @@ class Model {
   /// This rank stores the points of the cells with held[cell] != 0 only.
   void hold_points(const std::vector<char>& held);
   mutable std::optional<FactorEstimate> node_factor_;
+  void bind(Log& log);
   void bind_materials(Log& log);
   void check_cells();
   void bind_boundary();
