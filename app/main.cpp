@@ -144,7 +144,8 @@ void add_memory(nlohmann::json& summary) {
 /// --restart DIR [--from T]: the checkpoint to continue from, read on every rank and checked
 /// against the model; `earlier` gets DIR's checkpoints up to it.
 Restart restart_memory(const Model& model, const fs::path& dir, std::optional<double> from,
-                       std::vector<CheckpointEntry>& earlier, Log& log) {
+                       std::vector<CheckpointEntry>& earlier, Log& log,
+                       const CheckpointMesh* whole) {
   const SourceLocation where{"", 0, 0, "--restart"};
   auto entries = list_checkpoints(dir, where);
   std::size_t pick = entries.size() - 1;  // the newest
@@ -164,11 +165,34 @@ Restart restart_memory(const Model& model, const fs::path& dir, std::optional<do
     pick = static_cast<std::size_t>(it - entries.begin());
   }
   const CheckpointEntry& e = entries[pick];
-  Restart r = restore_run(model, read_checkpoint(e.file));
+  Restart r = restore_run(model, read_checkpoint(e.file), whole);
   log.info("restart: from {} (step {}, t = {:g})", e.file.string(), r.run.steps, r.committed.time);
   entries.resize(pick + 1);
   earlier = std::move(entries);
   return r;
+}
+
+/// Root's record of the whole mesh, on every rank (root's argument; the others' is ignored).
+/// Collective.
+std::optional<CheckpointMesh> broadcast_mesh_record(const std::optional<CheckpointMesh>& mine) {
+  std::string text;
+  if (par::root() && mine) {
+    text = fmt::format("{} {} {}\n", mine->fingerprint, mine->nodes, mine->cells);
+    for (std::size_t r = 0; r < mine->region_names.size(); ++r)
+      text += fmt::format("{} {}\n", mine->region_prints[r], mine->region_names[r]);
+  }
+  par::broadcast(text);
+  if (text.empty()) return std::nullopt;
+  std::istringstream in(text);
+  CheckpointMesh m;
+  in >> m.fingerprint >> m.nodes >> m.cells;
+  std::int64_t print = 0;
+  std::string name;
+  while (in >> print && in.get() == ' ' && std::getline(in, name)) {
+    m.region_prints.push_back(print);
+    m.region_names.push_back(name);
+  }
+  return m;
 }
 
 /// HENCKY_REPLICATED=1: every rank holds the whole mesh even where it could be distributed
@@ -191,7 +215,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   SourceLocation dir_where;
   // On several ranks the mesh is distributed (docs/parallel.md): root reads it and checks the
   // whole model, splits it and sends each rank its part; no rank holds the whole after. Not yet
-  // for contact, heat or a restart, which keep the whole mesh on every rank.
+  // for contact or heat, which keep the whole mesh on every rank.
   bool distribute = false;
   LoadedCase whole;  // root's, while the mesh is distributed
   std::unique_ptr<Case> spec;
@@ -204,7 +228,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         // outputs, and can.
         if (par::root()) check_output_dir(dir, dir_where);
         distribute = par::size() > 1 && spec->contact.empty() && !spec->heat.given &&
-                     restart.empty() && !replicated_by_environment();
+                     !replicated_by_environment();
         std::ifstream in(case_path, std::ios::binary);
         std::ostringstream text;
         text << in.rdbuf();
@@ -248,6 +272,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       l.mesh_seconds = whole.mesh_seconds;
       l.setup_seconds = whole.setup_seconds;
     }
+    whole_mesh = broadcast_mesh_record(whole_mesh);  // every rank checks a restart with it
     MeshPart part = scatter_parts(mesh.get(), owner);
     mesh.reset();
     owner = {};
@@ -305,7 +330,9 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   std::vector<CheckpointEntry> earlier;  // the checkpoints up to the restart's
   const fs::path restart_dir = restart.empty() ? fs::path() : command_line_dir(restart);
   if (int code = together([&] {
-        if (!restart.empty()) resume = restart_memory(model, restart_dir, from, earlier, log);
+        if (!restart.empty())
+          resume = restart_memory(model, restart_dir, from, earlier, log,
+                                  whole_mesh ? &*whole_mesh : nullptr);
       }))
     return code;
   // Root writes every output but the other ranks' pieces of the fields files.

@@ -164,10 +164,16 @@ std::string named_change(const CheckpointFile& f, const std::string& key, const 
 
 // ---- Point data ---------------------------------------------------------------------------
 
-/// Where each cell's points start in the whole mesh's order (the order of a checkpoint).
+/// Where each cell's points start in the whole mesh's order (the order of a checkpoint); the
+/// last entry is the whole model's count. On a part, for its own cells.
 std::vector<long long> global_offsets(const Model& model) {
   const auto& cells = model.mesh().cells;
   std::vector<long long> off(cells.size() + 1, 0);
+  if (model.part()) {
+    for (int e = 0; e < cells.size(); ++e) off[e] = model.whole_point_offset(e);
+    off.back() = model.total_points();
+    return off;
+  }
   for (int e = 0; e < cells.size(); ++e)
     off[e + 1] = off[e] + reference_table(cells.type[e]).n_points;
   return off;
@@ -443,7 +449,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   nodal("f_contact", s.f_contact, 3);
   put_contact(f, "contact", s.contact);
   // Point data, in the whole mesh's order.
-  const auto off = model.part() ? std::vector<long long>{0} : global_offsets(model);
+  const auto off = global_offsets(model);
   f.put("points", static_cast<std::int64_t>(model.total_points()));
   f.put("points.stress",
         gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
@@ -508,17 +514,21 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   return f;
 }
 
-Restart restore_run(const Model& model, const CheckpointFile& f) {
+Restart restore_run(const Model& model, const CheckpointFile& f, const CheckpointMesh* whole) {
   const Mesh& mesh = model.mesh();
-  if (f.integer("mesh.nodes") != mesh.n_nodes() || f.integer("mesh.cells") != mesh.cells.size() ||
-      f.integer("mesh.fingerprint") != mesh_fingerprint(mesh))
+  if (model.part() && !whole)
+    throw std::logic_error("restore_run: a distributed mesh needs the whole mesh's record");
+  const CheckpointMesh now = whole ? *whole : checkpoint_mesh(mesh);
+  if (f.integer("mesh.nodes") != now.nodes || f.integer("mesh.cells") != now.cells ||
+      f.integer("mesh.fingerprint") != now.fingerprint)
     changed(f, "mesh",
             fmt::format("the mesh {} is not the mesh the checkpoint was written with ({} nodes "
                         "and {} elements then, {} and {} now, or other coordinates or "
                         "connectivity)",
                         model.spec().mesh.file.filename().string(), f.integer("mesh.nodes"),
-                        f.integer("mesh.cells"), mesh.n_nodes(), mesh.cells.size()));
-  if (auto why = named_change(f, "regions", regions_of(mesh), "region"); !why.empty())
+                        f.integer("mesh.cells"), now.nodes, now.cells));
+  if (auto why = named_change(f, "regions", Named{now.region_names, now.region_prints}, "region");
+      !why.empty())
     changed(f, "regions", why);
   if (auto why = named_change(f, "materials", materials_of(model.spec()), "material"); !why.empty())
     changed(f, "materials", why);
@@ -531,20 +541,30 @@ Restart restore_run(const Model& model, const CheckpointFile& f) {
   Restart restart;
   RunMemory& run = restart.run;
   State& s = restart.committed;
-  const long long n_dofs = model.dofs().n_dofs(), n_nodes = mesh.n_nodes();
+  const long long n_nodes = mesh.n_nodes();
+  // A nodal array of `width` values a node: the file's whole one, or a part's nodes of it.
+  const auto nodal = [&](const char* key, int width) {
+    if (!model.part()) return f.f64(key, width * n_nodes);
+    const std::vector<double>& all = f.f64(key, width * model.global_nodes());
+    const auto& global = model.part()->global_node;
+    std::vector<double> mine(static_cast<std::size_t>(width) * n_nodes);
+    for (long long i = 0; i < n_nodes; ++i)
+      for (int k = 0; k < width; ++k) mine[width * i + k] = all[width * global[i] + k];
+    return mine;
+  };
   s.time = f.scalar("time");
   const auto& counts = f.i64("counts", 3);
   run.steps = static_cast<int>(counts[0]);
   run.iterations = static_cast<int>(counts[1]);
   run.factorizations = static_cast<int>(counts[2]);
   s.force_integral = f.scalar("force_integral");
-  s.u = f.f64("u", n_dofs);
-  s.nodal_temperature = f.f64("nodal_temperature", n_nodes);
+  s.u = nodal("u", 3);
+  s.nodal_temperature = nodal("nodal_temperature", 1);
   s.heat_flow =
       f.f64("heat_flow", heat ? static_cast<long long>(model.spec().heat.boundary.size()) : -1);
-  s.f_ext = f.f64("f_ext", n_dofs);
-  s.f_int = f.f64("f_int", n_dofs);
-  s.f_contact = f.f64("f_contact", n_dofs);
+  s.f_ext = nodal("f_ext", 3);
+  s.f_int = nodal("f_int", 3);
+  s.f_contact = nodal("f_contact", 3);
   s.contact = get_contact(f, "contact", model);
   if (s.contact.size() != model.contacts().size())
     changed(f, "contact", "the case has contact surfaces, the checkpoint's run had none");
@@ -580,7 +600,7 @@ Restart restore_run(const Model& model, const CheckpointFile& f) {
 
   EquilibriumMemory& eq = run.equilibrium;
   const auto& dofs = model.dofs();
-  const auto& du = f.f64("equilibrium.last_du", n_dofs);
+  const std::vector<double> du = nodal("equilibrium.last_du", 3);
   eq.last_dt = f.scalar("equilibrium.last_dt");
   if (eq.last_dt > 0) {
     eq.last_du.assign(dofs.n_free, 0.0);

@@ -43,7 +43,9 @@ CheckpointFile checkpoint_of(const Model& model, const State& committed, const R
 /// The run a checkpoint continues: InputError naming what differs when the model's mesh,
 /// regions, materials, contacts or heat section are not those the checkpoint was written
 /// with. `f` must be read whole on every rank; each takes its own points.
-Restart restore_run(const Model& model, const CheckpointFile& f);
+/// On a distributed mesh `whole` is the whole mesh's record (every rank's).
+Restart restore_run(const Model& model, const CheckpointFile& f,
+                    const CheckpointMesh* whole = nullptr);
 
 /// One checkpoint of an output directory (its checkpoints/index.csv).
 struct CheckpointEntry {

@@ -125,6 +125,9 @@ class Model {
   bool holds_points(int cell) const { return point_offset_[cell + 1] > point_offset_[cell]; }
   /// The points of the whole model, over all ranks.
   int total_points() const { return total_points_; }
+  /// On a part (after join): where cell's points start in the whole mesh's order, the order
+  /// of a checkpoint.
+  long long whole_point_offset(int cell) const { return whole_point_offset_[cell]; }
   /// The split of the mesh over the MPI ranks (one part on one rank): this rank then holds the
   /// points of its own cells (hold_points). Call before any State is made.
   void set_partition(Partition partition);
@@ -220,6 +223,7 @@ class Model {
   std::vector<MaterialModel> materials_;
   std::vector<int> cell_material_;
   std::vector<int> point_offset_;
+  std::vector<long long> whole_point_offset_;  ///< a part's (join)
   int total_points_ = 0;
   Partition partition_;
   NodalLayout layout_;
