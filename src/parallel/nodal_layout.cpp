@@ -40,10 +40,6 @@ void NodalLayout::sum_blocks(std::span<double> v, int blocks) const {
   for (int b = 0; b < blocks; ++b) exchange_->sum(v.subspan(b * n, n), 1);
 }
 
-void NodalLayout::to_ghosts(std::span<double> v, int width) const {
-  if (kind_ == Kind::distributed) exchange_->to_ghosts(v, width);
-}
-
 std::size_t NodalLayout::owned_entries(std::size_t size, int width, int local_nodes) const {
   if (kind_ != Kind::distributed) return size;
   if (local_nodes != exchange_->local_nodes() ||
@@ -72,6 +68,10 @@ double NodalLayout::total(double x) const {
   if (kind_ != Kind::distributed) return x;
   par::sum_in_place(std::span<double>(&x, 1));
   return x;
+}
+
+void NodalLayout::total(std::span<double> x) const {
+  if (kind_ == Kind::distributed) par::sum_in_place(x);
 }
 
 double NodalLayout::largest(double x) const {

@@ -44,9 +44,6 @@ class NodalLayout {
   void sum(std::span<double> v, int width) const;
   /// sum() of `blocks` vectors of one value per node stored one after the other in `v`.
   void sum_blocks(std::span<double> v, int blocks) const;
-  /// A vector whose own nodes are right: each ghost takes its owner's values (nothing to do
-  /// unless distributed). Collective.
-  void to_ghosts(std::span<double> v, int width) const;
 
   /// How many leading entries of a vector of `width` values per node are this rank's own:
   /// all of them unless distributed.
@@ -60,6 +57,8 @@ class NodalLayout {
   double dot(std::span<const double> a, std::span<const double> b, std::size_t owned) const;
   /// The sum over the ranks when distributed, else x. Collective when distributed.
   double total(double x) const;
+  /// total() of each entry of `x`, in place. Collective when distributed.
+  void total(std::span<double> x) const;
   /// The largest over the ranks when distributed, else x. Collective when distributed.
   double largest(double x) const;
 

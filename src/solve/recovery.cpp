@@ -16,21 +16,19 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   const bool plastic = model.has_plasticity();
   const bool updated = model.spec().solver.updated_geometry;
   // One buffer per target, so that the ranks' shares are summed in one reduction each: per
-  // node σ, ε, ε^e, ε^th (6 each), then ε^p (6), ε̃^p and ε̃^{e+p} with plasticity; per cell
-  // σ (6), σ_vM, ε̃^p, zone.
+  // node the count of cells at it, σ, ε, ε^e, ε^th (6 each), then ε^p (6), ε̃^p and ε̃^{e+p}
+  // with plasticity; per cell σ (6), σ_vM, ε̃^p, zone. Each rank counts the cells whose points it
+  // holds, so that the counts sum like the values on any layout.
   constexpr int n_tensors = 4;  // σ, ε, ε^e, ε^th
-  const int node_width = plastic ? 6 * n_tensors + 8 : 6 * n_tensors, cell_width = 9;
+  const int node_width = 1 + (plastic ? 6 * n_tensors + 8 : 6 * n_tensors), cell_width = 9;
   std::vector<double> nodal(static_cast<std::size_t>(node_width) * n_nodes, 0.0);
   std::vector<double> cells(with_cells ? static_cast<std::size_t>(cell_width) * n_cells : 0);
-  // Cells at each node, over all ranks: the mesh's own count, unless it is a rank's part.
-  std::vector<double> count(n_nodes, 0.0);
   CellKinematics kin;
   Vec3 x[max_cell_nodes];
   double u[3 * max_cell_nodes];
   std::array<Voigt, n_tensors> at_point[max_cell_points];  // σ, ε, ε^e, ε^th at each point
   for (int e = 0; e < n_cells; ++e) {
     const auto nodes = mesh.cells.nodes(e);
-    for (int n : nodes) ++count[n];
     if (!model.holds_points(e)) continue;
     const auto& tab = reference_table(mesh.cells.type[e]);
     const int p0 = model.point_offset(e), n_cell_nodes = static_cast<int>(nodes.size());
@@ -67,6 +65,8 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
         eps_ep += w * state.eps_ep[p0 + q];
       }
       double* v = &nodal[static_cast<std::size_t>(node_width) * nodes[a]];
+      v[0] += 1;  // the count
+      ++v;
       for (int i = 0; i < n_tensors; ++i)
         for (int k = 0; k < 6; ++k) v[6 * i + k] += t[i][k];
       if (!plastic) continue;
@@ -88,7 +88,6 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   // its own cells (results.hpp): each needs the nodal averages of its cells' nodes, ghost nodes
   // included. The sums go to every rank. A cell's means are its rank's alone.
   model.layout().sum(nodal, node_width);
-  if (model.layout().kind() == NodalLayout::Kind::distributed) model.layout().sum(count, 1);
   RecoveredFields f;
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
@@ -99,15 +98,16 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
     f.nodal_eps_ep.assign(n_nodes, 0.0);
   }
   for (int n = 0; n < n_nodes; ++n) {
-    if (count[n] == 0) continue;
     const double* v = &nodal[static_cast<std::size_t>(node_width) * n];
+    const double count = *v++;
+    if (count == 0) continue;
     for (int i = 0; i < n_tensors; ++i)
-      for (int k = 0; k < 6; ++k) (*tensors[i])[n][k] = v[6 * i + k] / count[n];
+      for (int k = 0; k < 6; ++k) (*tensors[i])[n][k] = v[6 * i + k] / count;
     if (!plastic) continue;
-    for (int k = 0; k < 6; ++k) f.nodal_plastic_strain[n][k] = v[6 * n_tensors + k] / count[n];
+    for (int k = 0; k < 6; ++k) f.nodal_plastic_strain[n][k] = v[6 * n_tensors + k] / count;
     // Extrapolation from the points may undershoot next to a plastic zone's edge.
-    f.nodal_eps_p_eq[n] = std::max(v[6 * n_tensors + 6] / count[n], 0.0);
-    f.nodal_eps_ep[n] = v[6 * n_tensors + 7] / count[n];
+    f.nodal_eps_p_eq[n] = std::max(v[6 * n_tensors + 6] / count, 0.0);
+    f.nodal_eps_ep[n] = v[6 * n_tensors + 7] / count;
   }
   if (!with_cells) return f;
   f.cell_stress.resize(n_cells);
