@@ -214,8 +214,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   fs::path dir;  // the output directory, from -o or output.dir
   SourceLocation dir_where;
   // On several ranks the mesh is distributed (docs/parallel.md): root reads it and checks the
-  // whole model, splits it and sends each rank its part; no rank holds the whole after. Not yet
-  // for contact or heat, which keep the whole mesh on every rank.
+  // whole model, splits it and sends each rank its part; no rank holds the whole after.
   bool distribute = false;
   LoadedCase whole;  // root's, while the mesh is distributed
   std::unique_ptr<Case> spec;
@@ -227,8 +226,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         // Before the mesh (Gmsh may mesh for minutes) and the analysis: root writes the
         // outputs, and can.
         if (par::root()) check_output_dir(dir, dir_where);
-        distribute = par::size() > 1 && spec->contact.empty() && !spec->heat.given &&
-                     !replicated_by_environment();
+        distribute = par::size() > 1 && !replicated_by_environment();
         std::ifstream in(case_path, std::ios::binary);
         std::ostringstream text;
         text << in.rdbuf();
@@ -253,6 +251,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       }))
     return code;
   std::string mesh_line, parts_line;         // the whole mesh and its parts, for the log
+  std::vector<std::string> contact_lines;    // the whole model's contact, for the log
   std::optional<CheckpointMesh> whole_mesh;  // root's record of it, for the checkpoints
   if (distribute) {
     if (int code = together([&] {
@@ -261,11 +260,14 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       return code;
     std::unique_ptr<Mesh> mesh;
     std::vector<int> owner;
+    std::vector<std::vector<ContactPoint>> contact_points;  // root's, of the whole model
     if (par::root()) {
       const Model& m = *whole.model;
       mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
       owner = split_cells(m.mesh(), par::size());
       whole_mesh = checkpoint_mesh(m.mesh());
+      contact_lines = describe_contact(m);
+      for (const ContactBody& b : m.contacts()) contact_points.push_back(b.points);
       mesh = std::make_unique<Mesh>(std::move(*whole.model).take_mesh());
       whole.model.reset();
       l.spec = std::move(whole.spec);
@@ -282,6 +284,8 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
           l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
         }))
       return code;
+    l.model->share_contact(contact_points);
+    contact_points = {};
     l.model->join();
     const Partition& p = l.model->partition();
     parts_line = fmt::format(
@@ -307,13 +311,14 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
       return code;
     mesh_line =
         fmt::format("{}; {} unknowns", describe_mesh(l.model->mesh()), l.model->dofs().n_free);
+    contact_lines = describe_contact(*l.model);
   }
   const Model& model = *l.model;
   const Case& c = *l.spec;
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}", mesh_line);
   if (!parts_line.empty()) log.info("{}", parts_line);
-  for (const auto& line : describe_contact(model)) log.info("{}", line);
+  for (const auto& line : contact_lines) log.info("{}", line);
 
   std::unique_ptr<LinearSystem> solver;
   std::unique_ptr<HeatSolver> heat;

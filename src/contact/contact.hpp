@@ -107,6 +107,10 @@ struct ContactBody {
   const ContactSpec* spec = nullptr;
   std::unique_ptr<RigidSurface> surface;
   std::vector<ContactPoint> points;
+  /// On a rank's part of a distributed mesh: each point's index in the whole model's list of
+  /// the surface's points, and that list's length (empty and 0 on a whole mesh).
+  std::vector<int> whole_index;
+  int whole_points = 0;
   /// The translation m(t) of the surface.
   Vec3 motion(double t) const;
   /// κ_0 of point i: the user's value, or auto_kappa_factor times the mesh's stiffness there.

@@ -392,7 +392,10 @@ void PetscSolver::assemble_local(const CellMatrix& cell_matrix) {
 }
 
 void PetscSolver::add_block(int a, int b, const Mat3& block) {  // displacement only (k == 3)
-  if (partition_.node_owner[a] != partition_.rank) return;  // the owner of the rows adds it
+  // The whole mesh on every rank: the owner of the rows adds the block. A distributed mesh's
+  // caller gives each block once, from the rank that holds its contact point (the rows may be
+  // another rank's: PETSc sends them there at the assembly).
+  if (!part_ && partition_.node_owner[a] != partition_.rank) return;
   const Impl& s = *impl_;
   const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> rows = block;
   PetscInt r[3], c[3];

@@ -52,7 +52,8 @@ class PetscSolver final : public LinearSystem {
   // LinearSystem. The matrix is assembled in place: assemble_cells zeroes it, puts 1 on the
   // diagonal of this rank's prescribed dofs and adds this rank's cells; PETSc moves the
   // entries of shared nodes to their owners when the matrix is finished (keep_cells,
-  // factorize). add_block adds the blocks of the rows this rank owns.
+  // factorize). add_block adds the blocks of the rows this rank owns (on a distributed mesh,
+  // every block it is given).
   void assemble_cells(const CellMatrix& cell_matrix) override;
   void keep_cells() override;
   bool restore_cells() override;

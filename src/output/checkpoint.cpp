@@ -202,65 +202,67 @@ std::vector<std::vector<double>> gather_doubles(const std::vector<double>& mine)
   return out;
 }
 
+/// Every rank's runs of values placed on root into an array of `total` values: this rank's
+/// run i is `length[i]` values, taken in turn from `values`, that go to `start[i]` onwards.
+/// Empty except on root. Collective.
+std::vector<double> gather_runs(const std::vector<long long>& start, const std::vector<int>& length,
+                                const std::vector<double>& values, std::size_t total) {
+  std::vector<double> heads;  // (start, length) per run; exact as doubles below 2^53
+  heads.reserve(2 * start.size());
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    heads.push_back(static_cast<double>(start[i]));
+    heads.push_back(length[i]);
+  }
+  const auto all_heads = gather_doubles(heads);
+  const auto all_values = gather_doubles(values);
+  std::vector<double> out;
+  if (!par::root()) return out;
+  out.assign(total, 0.0);
+  for (std::size_t r = 0; r < all_heads.size(); ++r) {
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < all_heads[r].size(); i += 2) {
+      const auto n = static_cast<std::size_t>(all_heads[r][i + 1]);
+      std::copy_n(all_values[r].begin() + at, n,
+                  out.begin() + static_cast<std::ptrdiff_t>(all_heads[r][i]));
+      at += n;
+    }
+  }
+  return out;
+}
+
 /// A nodal array of `width` values a node in the whole mesh's order: the model's own, or on a
 /// distributed mesh the owners' values gathered on root (empty elsewhere; collective then).
 std::vector<double> whole_nodal(const Model& model, std::span<const double> v, int width) {
   const MeshPart* part = model.part();
   if (!part) return {v.begin(), v.end()};
-  std::vector<double> ids(part->global_node.begin(), part->global_node.begin() + part->owned_nodes);
-  const auto all_ids = gather_doubles(ids);
-  const auto all_values = gather_doubles(std::vector<double>(
-      v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * part->owned_nodes));
-  std::vector<double> out;
-  if (!par::root()) return out;
-  out.assign(static_cast<std::size_t>(width) * model.global_nodes(), 0.0);
-  for (std::size_t r = 0; r < all_ids.size(); ++r)
-    for (std::size_t i = 0; i < all_ids[r].size(); ++i)
-      for (int k = 0; k < width; ++k)
-        out[width * static_cast<std::size_t>(all_ids[r][i]) + k] = all_values[r][width * i + k];
-  return out;
-}
-
-/// gather() on a distributed mesh: each rank sends, cell by cell, the cell's whole-mesh index,
-/// its number of points and their values; root orders them by cell.
-std::vector<double> gather_part(const Model& model, int width,
-                                const std::function<void(int, double*)>& get) {
-  const MeshPart& part = *model.part();
-  std::vector<double> mine;
-  std::vector<double> buffer(width);
-  for (int e = 0; e < model.mesh().cells.size(); ++e) {
-    const int n = model.point_offset(e + 1) - model.point_offset(e);
-    mine.push_back(part.global_cell[e]);
-    mine.push_back(n);
-    for (int q = 0; q < n; ++q) {
-      get(model.point_offset(e) + q, buffer.data());
-      mine.insert(mine.end(), buffer.begin(), buffer.end());
-    }
-  }
-  const auto all = gather_doubles(mine);
-  std::vector<double> out;
-  if (!par::root()) return out;
-  std::vector<long long> off(model.global_cells() + 1, 0);
-  for (const auto& r : all)
-    for (std::size_t i = 0; i < r.size(); i += 2 + width * static_cast<std::size_t>(r[i + 1]))
-      off[static_cast<std::size_t>(r[i]) + 1] = static_cast<long long>(r[i + 1]);
-  for (std::size_t c = 0; c + 1 < off.size(); ++c) off[c + 1] += off[c];
-  out.assign(static_cast<std::size_t>(off.back()) * width, 0.0);
-  for (const auto& r : all)
-    for (std::size_t i = 0; i < r.size(); i += 2 + width * static_cast<std::size_t>(r[i + 1])) {
-      const std::size_t n = width * static_cast<std::size_t>(r[i + 1]);
-      std::copy(r.begin() + i + 2, r.begin() + i + 2 + n,
-                out.begin() + off[static_cast<std::size_t>(r[i])] * width);
-    }
-  return out;
+  std::vector<long long> start(part->owned_nodes);
+  for (int i = 0; i < part->owned_nodes; ++i) start[i] = width * part->global_node[i];
+  return gather_runs(
+      start, std::vector<int>(part->owned_nodes, width),
+      {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * part->owned_nodes},
+      static_cast<std::size_t>(width) * model.global_nodes());
 }
 
 /// A per-point quantity of `width` numbers, this rank's points → the whole mesh's order on
 /// root (collective).
 std::vector<double> gather(const Model& model, const std::vector<long long>& off, int width,
                            const std::function<void(int, double*)>& get) {
-  if (model.part()) return gather_part(model, width, get);
-  std::vector<double> g(static_cast<std::size_t>(off.back()) * width, 0.0);
+  const auto total = static_cast<std::size_t>(off.back()) * width;
+  if (model.part()) {  // the part's cells' points, each cell a run at its whole-mesh place
+    std::vector<long long> start;
+    std::vector<int> length;
+    std::vector<double> values;
+    for (int e = 0; e < model.mesh().cells.size(); ++e) {
+      const int n = model.point_offset(e + 1) - model.point_offset(e);
+      start.push_back(off[e] * width);
+      length.push_back(n * width);
+      values.resize(values.size() + static_cast<std::size_t>(n) * width);
+      for (int q = 0; q < n; ++q)
+        get(model.point_offset(e) + q, &values[values.size() - (n - q) * width]);
+    }
+    return gather_runs(start, length, values, total);
+  }
+  std::vector<double> g(total, 0.0);
   for_each_held_point(model, off, [&](int p, long long i) { get(p, &g[i * width]); });
   par::sum_to_root(g);
   return g;
@@ -299,18 +301,41 @@ Tangent get_tangent(const double* in) {
 
 constexpr int contact_width = 11;  // force 3, point 3, normal 3, kappa, gap
 
+/// The states of every surface's points, in the whole model's order: on a distributed mesh each
+/// point from its node's owner, gathered on root. Collective then.
 void put_contact(CheckpointFile& f, const std::string& key,
-                 const std::vector<std::vector<ContactNode>>& contact) {
+                 const std::vector<std::vector<ContactNode>>& contact, const Model& model) {
   f.put(key + ".bodies", static_cast<std::int64_t>(contact.size()));
+  constexpr int w = contact_width + 1;  // and the flags
+  const auto pack = [](const ContactNode& n, std::vector<double>& out) {
+    for (const Vec3* x : {&n.force, &n.point, &n.normal})
+      out.insert(out.end(), x->data(), x->data() + 3);
+    out.push_back(n.kappa);
+    out.push_back(n.gap);
+    out.push_back(n.contact | (n.separation << 1));
+  };
   for (std::size_t b = 0; b < contact.size(); ++b) {
+    std::vector<double> all;
+    if (!model.part()) {
+      for (const ContactNode& n : contact[b]) pack(n, all);
+    } else {
+      const ContactBody& body = model.contacts()[b];
+      const Partition& part = model.partition();
+      std::vector<long long> start;
+      std::vector<double> mine;
+      for (std::size_t i = 0; i < contact[b].size(); ++i)
+        if (part.node_owner[body.points[i].node] == part.rank) {
+          start.push_back(static_cast<long long>(w) * body.whole_index[i]);
+          pack(contact[b][i], mine);
+        }
+      all = gather_runs(start, std::vector<int>(start.size(), w), mine,
+                        static_cast<std::size_t>(w) * body.whole_points);
+    }
     std::vector<double> v;
     std::vector<std::uint8_t> flags;
-    for (const ContactNode& n : contact[b]) {
-      for (const Vec3* x : {&n.force, &n.point, &n.normal})
-        v.insert(v.end(), x->data(), x->data() + 3);
-      v.push_back(n.kappa);
-      v.push_back(n.gap);
-      flags.push_back(static_cast<std::uint8_t>(n.contact | (n.separation << 1)));
+    for (std::size_t j = 0; j + w <= all.size(); j += w) {
+      v.insert(v.end(), all.begin() + j, all.begin() + j + contact_width);
+      flags.push_back(static_cast<std::uint8_t>(all[j + contact_width]));
     }
     f.put(fmt::format("{}.{}.values", key, b), std::span<const double>(v));
     f.put(fmt::format("{}.{}.flags", key, b), std::span<const std::uint8_t>(flags));
@@ -329,12 +354,16 @@ std::vector<std::vector<ContactNode>> get_contact(const CheckpointFile& f, const
                                  bodies.size(), n_bodies));
   contact.resize(bodies.size());
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const long long n = static_cast<long long>(bodies[b].points.size());
-    const auto& v = f.f64(fmt::format("{}.{}.values", key, b), n * contact_width);
-    const auto& flags = f.u8(fmt::format("{}.{}.flags", key, b), n);
+    // The file holds the whole model's points; a distributed mesh's part takes its own.
+    const ContactBody& body = bodies[b];
+    const long long n = static_cast<long long>(body.points.size());
+    const long long stored = model.part() ? body.whole_points : n;
+    const auto& v = f.f64(fmt::format("{}.{}.values", key, b), stored * contact_width);
+    const auto& flags = f.u8(fmt::format("{}.{}.flags", key, b), stored);
     contact[b].resize(n);
-    for (long long i = 0; i < n; ++i) {
-      ContactNode& c = contact[b][i];
+    for (long long k = 0; k < n; ++k) {
+      const long long i = model.part() ? body.whole_index[k] : k;
+      ContactNode& c = contact[b][k];
       const double* x = &v[i * contact_width];
       c.force = Vec3(x[0], x[1], x[2]);
       c.point = Vec3(x[3], x[4], x[5]);
@@ -437,7 +466,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   f.put("counts", std::span<const std::int64_t>(counts));
   f.put("force_integral", s.force_integral);
   // Nodal data: whole on every rank, or gathered from a distributed mesh's owners.
-  const auto nodal = [&](const char* key, const std::vector<double>& v, int width) {
+  const auto nodal = [&](const std::string& key, const std::vector<double>& v, int width) {
     if (!model.part()) return f.put(key, std::span<const double>(v));
     f.put(key, std::span<const double>(whole_nodal(model, v, width)));
   };
@@ -447,7 +476,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   nodal("f_ext", s.f_ext, 3);
   nodal("f_int", s.f_int, 3);
   nodal("f_contact", s.f_contact, 3);
-  put_contact(f, "contact", s.contact);
+  put_contact(f, "contact", s.contact, model);
   // Point data, in the whole mesh's order.
   const auto off = global_offsets(model);
   f.put("points", static_cast<std::int64_t>(model.total_points()));
@@ -484,7 +513,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
             gather(model, off, tangent_width,
                    [&](int p, double* o) { put_tangent(o, eq.assembled_tangents[p]); }));
   }
-  put_contact(f, "equilibrium.assembled_contact", eq.assembled_contact);
+  put_contact(f, "equilibrium.assembled_contact", eq.assembled_contact, model);
   // The step targets still queued.
   std::vector<double> times;
   std::vector<std::int64_t> depths;
@@ -500,13 +529,13 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
       const HeatSnapshot& sn = h.snapshots[i];
       const std::string k = fmt::format("heat.snapshot.{}.", i);
       f.put(k + "time", sn.time);
-      f.put(k + "T", std::span<const double>(sn.T));
+      nodal(k + "T", sn.T, 1);
       f.put(k + "flow", std::span<const double>(sn.flow));
       f.put(k + "flow_now", std::span<const double>(sn.flow_now));
       f.put(k + "energy", std::span<const double>(sn.energy));
     }
-    f.put("heat.R_last", std::span<const double>(h.R_last));
-    f.put("heat.S_last", std::span<const double>(h.S_last));
+    nodal("heat.R_last", h.R_last, 1);
+    nodal("heat.S_last", h.S_last, 1);
     f.put("heat.committed", h.committed);
     const std::int64_t hc[3] = {h.steps, h.iterations, h.gmres_iterations};
     f.put("heat.counts", std::span<const std::int64_t>(hc));
@@ -543,7 +572,7 @@ Restart restore_run(const Model& model, const CheckpointFile& f, const Checkpoin
   State& s = restart.committed;
   const long long n_nodes = mesh.n_nodes();
   // A nodal array of `width` values a node: the file's whole one, or a part's nodes of it.
-  const auto nodal = [&](const char* key, int width) {
+  const auto nodal = [&](const std::string& key, int width) {
     if (!model.part()) return f.f64(key, width * n_nodes);
     const std::vector<double>& all = f.f64(key, width * model.global_nodes());
     const auto& global = model.part()->global_node;
@@ -639,14 +668,14 @@ Restart restore_run(const Model& model, const CheckpointFile& f, const Checkpoin
       const std::string k = fmt::format("heat.snapshot.{}.", i);
       HeatSnapshot sn;
       sn.time = f.scalar(k + "time");
-      sn.T = f.f64(k + "T", n_nodes);
+      sn.T = nodal(k + "T", 1);
       sn.flow = f.f64(k + "flow", n_bc);
       sn.flow_now = f.f64(k + "flow_now");
       sn.energy = f.f64(k + "energy", n_bc);
       h.snapshots.push_back(std::move(sn));
     }
-    h.R_last = f.f64("heat.R_last", n_nodes);
-    h.S_last = f.f64("heat.S_last", n_nodes);
+    h.R_last = nodal("heat.R_last", 1);
+    h.S_last = nodal("heat.S_last", 1);
     h.committed = f.scalar("heat.committed");
     const auto& hc = f.i64("heat.counts", 3);
     h.steps = static_cast<int>(hc[0]);

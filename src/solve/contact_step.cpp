@@ -4,10 +4,30 @@
 
 #include <cmath>
 
+#include "parallel/mpi.hpp"
+
 namespace hencky {
 
-ContactStep::ContactStep(const Model& m) : m_(&m) {
+ContactStep::ContactStep(const Model& m)
+    : m_(&m), distributed_(m.layout().kind() == NodalLayout::Kind::distributed) {
   const auto& bodies = m.contacts();
+  if (distributed_) {
+    const Partition& part = m.partition();
+    for (const ContactBody& body : bodies) {
+      auto& owned = owned_.emplace_back();
+      for (const ContactPoint& p : body.points)
+        owned.push_back(part.node_owner[p.node] == part.rank);
+    }
+  }
+  for (const ContactBody& body : bodies) {
+    double lo = INFINITY, hi = 0;
+    for (const ContactPoint& p : body.points) {
+      lo = std::min(lo, p.stiffness);
+      hi = std::max(hi, p.stiffness);
+    }
+    k_min_.push_back(-m.layout().largest(-lo));
+    k_max_.push_back(m.layout().largest(hi));
+  }
   m0_.assign(bodies.size(), Vec3::Zero());
   m1_.assign(bodies.size(), Vec3::Zero());
   flips_.resize(bodies.size());
@@ -58,8 +78,10 @@ void ContactStep::begin(const State& c, State& trial) {
       r_t_[b][i] = position(static_cast<int>(b), static_cast<int>(i), c.u);
   }
   progress_ = ContactProgress{};
-  for (const auto& states : trial.contact)
-    for (const ContactNode& n : states) progress_.in_contact += n.contact;
+  for (std::size_t b = 0; b < trial.contact.size(); ++b)
+    for (std::size_t i = 0; i < trial.contact[b].size(); ++i)
+      progress_.in_contact += counts(b, i) && trial.contact[b][i].contact;
+  progress_.in_contact = static_cast<int>(m_->layout().total(progress_.in_contact));
 }
 
 void ContactStep::forces(State& trial) const {
@@ -68,13 +90,15 @@ void ContactStep::forces(State& trial) const {
   for (std::size_t b = 0; b < bodies.size(); ++b)
     for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
       const ContactNode& s = trial.contact[b][i];
-      if (!s.contact) continue;
+      if (!s.contact || !counts(b, i)) continue;
       const Vec3 f = contact_force(s, position(static_cast<int>(b), static_cast<int>(i), trial.u));
       // f = T̃ᵀ F̃: the transformed node's force spread on the mesh nodes it stands for.
       const ContactPoint& p = bodies[b].points[i];
       for (int k = 0; k < p.terms; ++k)
         for (int d = 0; d < 3; ++d) trial.f_contact[3 * p.term_node[k] + d] += p.term_coef[k] * f[d];
     }
+  // Each point's forces came from one rank: summed over the copies of the nodes.
+  if (distributed_) m_->layout().sum(trial.f_contact, 3);
 }
 
 void ContactStep::add_matrix(const State& trial,
@@ -83,7 +107,7 @@ void ContactStep::add_matrix(const State& trial,
   for (std::size_t b = 0; b < bodies.size(); ++b)
     for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
       const ContactNode& s = trial.contact[b][i];
-      if (!s.contact) continue;
+      if (!s.contact || !counts(b, i)) continue;
       const Mat3 G = contact_matrix(s);
       const ContactPoint& p = bodies[b].points[i];
       // T̃ᵀ G T̃ over the (up to three) mesh nodes of the point.
@@ -113,19 +137,21 @@ void ContactStep::add_matrix(const State& trial, std::span<double> values) {
 bool ContactStep::matrix_stale(const State& trial) const {
   if (!active()) return false;
   if (!assembled_any_) return true;
-  for (std::size_t b = 0; b < trial.contact.size(); ++b)
-    for (std::size_t i = 0; i < trial.contact[b].size(); ++i) {
+  bool stale = false;
+  for (std::size_t b = 0; b < trial.contact.size() && !stale; ++b)
+    for (std::size_t i = 0; i < trial.contact[b].size() && !stale; ++i) {
       const ContactNode &s = trial.contact[b][i], &a = assembled_[b][i];
-      if (s.contact != a.contact) return true;
-      if (s.contact && (s.kappa != a.kappa || (s.normal - a.normal).norm() > 1e-3)) return true;
+      stale = s.contact != a.contact ||
+              (s.contact && (s.kappa != a.kappa || (s.normal - a.normal).norm() > 1e-3));
     }
-  return false;
+  return m_->layout().largest(stale) > 0;  // the ranks of a distributed mesh agree
 }
 
 ContactProgress ContactStep::update(const State& c, State& trial) {
   const auto& bodies = m_->contacts();
   ContactProgress pr;
   std::vector<std::pair<int, int>> raise;  // (surface, point) whose κ the strategy raises
+  std::string oscillates;                  // the first node whose contact set oscillates
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const ContactBody& body = bodies[b];
     const SurfaceMotion where{body.surface.get(), m0_[b], m1_[b]};
@@ -135,19 +161,20 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       const bool was_contact = s.contact, was_separation = s.separation;
       const ContactBranch branch = update_contact_node(
           s, c.contact[b][i], r_t_[b][i], position(static_cast<int>(b), ii, trial.u), where);
-      if (branch == ContactBranch::released && c.contact[b][i].contact) ++pr.released;
+      const bool mine = counts(b, i);
+      if (branch == ContactBranch::released && c.contact[b][i].contact && mine) ++pr.released;
       if (s.contact != was_contact || s.separation != was_separation) pr.set_changed = true;
-      if (s.contact != was_contact && ++flips_[b][i] > max_flips)
-        throw SolveError(fmt::format(
+      if (s.contact != was_contact && ++flips_[b][i] > max_flips && oscillates.empty())
+        oscillates = fmt::format(
             "contact '{}': node {} changed between contact and no contact {} times in this "
             "step (the contact set oscillates)",
-            body.spec->name, m_->mesh().node_tag[body.points[i].node], flips_[b][i]));
+            body.spec->name, m_->mesh().node_tag[body.points[i].node], flips_[b][i]);
       pr.max_penetration = std::max(pr.max_penetration, -s.gap);
       if (!s.contact) {
         prev_gap_[b][i] = NAN;
         continue;
       }
-      ++pr.in_contact;
+      pr.in_contact += mine;
       const double allowed = body.allowed_gap(ii), g = std::abs(s.gap);
       pr.worst_gap = std::max(pr.worst_gap, allowed > 0 ? g / allowed : 0.0);
       // κ strategy (auto): the augmented update (3.4) removes the fraction κ/(κ + k) of the
@@ -160,6 +187,30 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       prev_gap_[b][i] = g;
     }
   }
+  // On a distributed mesh every copy of a point took the same branch; the ranks agree on the
+  // whole's figures, and on an oscillation that one of them found (its message is root's to
+  // give: the first in rank order).
+  const NodalLayout& layout = m_->layout();
+  if (distributed_) {
+    double sums[2] = {static_cast<double>(pr.released), static_cast<double>(pr.in_contact)};
+    double most[4] = {static_cast<double>(pr.set_changed), pr.max_penetration, pr.worst_gap,
+                      static_cast<double>(!oscillates.empty())};
+    par::sum_in_place(sums);
+    par::max_in_place(most);
+    pr.released = static_cast<int>(sums[0]);
+    pr.in_contact = static_cast<int>(sums[1]);
+    pr.set_changed = most[0] > 0;
+    pr.max_penetration = most[1];
+    pr.worst_gap = most[2];
+    if (most[3] > 0) {
+      std::string first;
+      for (const std::string& m : par::gather_strings(oscillates))
+        if (first.empty()) first = m;
+      throw SolveError(par::root() ? first : "the contact set oscillates on another rank");
+    }
+  } else if (!oscillates.empty()) {
+    throw SolveError(oscillates);
+  }
   // Only while the contact set holds still: while it changes, gaps jump for other reasons
   // than a small κ, and a stiffer κ then only sharpens the jumps.
   if (!pr.set_changed)
@@ -167,6 +218,7 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       trial.contact[b][i].kappa *= 10;
       pr.kappa_raised = true;
     }
+  pr.kappa_raised = layout.largest(pr.kappa_raised) > 0;
   progress_ = pr;
   return pr;
 }
@@ -180,6 +232,12 @@ void ContactStep::augmented_offsets(const State& s, std::vector<double>& c,
       c.push_back(contact_force(n, Vec3::Zero()).dot(n.normal));  // 0 out of contact
       if (weight) weight->push_back(n.contact ? 1 / n.kappa : 0.0);
     }
+  if (weight && distributed_) {  // a point's rows count at its node's owner alone
+    std::size_t k = 0;
+    for (std::size_t b = 0; b < s.contact.size(); ++b)
+      for (std::size_t i = 0; i < s.contact[b].size(); ++i, ++k)
+        if (!counts(b, i)) (*weight)[k] = 0;
+  }
 }
 
 void ContactStep::set_augmented_offsets(State& s, std::span<const double> c) const {
@@ -201,13 +259,10 @@ std::string ContactStep::diagnosis() const {
                     progress_.worst_gap);
   // A given κ far below the mesh's stiffness makes the augmented update (3.4) close the gaps
   // and settle the forces slowly: the residual then falls by about k/(k + κ) per iteration.
-  for (const ContactBody& b : m_->contacts()) {
+  for (std::size_t k = 0; k < m_->contacts().size(); ++k) {
+    const ContactBody& b = m_->contacts()[k];
     if (!b.spec->stiffness) continue;
-    double k_min = INFINITY, k_max = 0;
-    for (const ContactPoint& p : b.points) {
-      k_min = std::min(k_min, p.stiffness);
-      k_max = std::max(k_max, p.stiffness);
-    }
+    const double k_min = k_min_[k], k_max = k_max_[k];
     const double kappa = *b.spec->stiffness;
     const char* sep = s.empty() ? "" : "; ";
     if (kappa < auto_kappa_factor * k_min / 10)
@@ -228,7 +283,21 @@ std::string ContactStep::summary(const State& s) const {
   std::string out;
   const auto& bodies = m_->contacts();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const ContactTotals t = contact_totals(bodies[b], s.contact[b], s.u);
+    ContactTotals t;
+    if (!distributed_) {
+      t = contact_totals(bodies[b], s.contact[b], s.u);
+    } else {  // each point at its node's owner, over the ranks
+      const Partition& part = m_->partition();
+      t = contact_totals(bodies[b], s.contact[b], s.u, &part.node_owner, part.rank);
+      double sums[2] = {t.force, static_cast<double>(t.nodes)};
+      double most[2] = {t.max_penetration, t.max_penetration_relative};
+      par::sum_in_place(sums);
+      par::max_in_place(most);
+      t.force = sums[0];
+      t.nodes = static_cast<int>(sums[1]);
+      t.max_penetration = most[0];
+      t.max_penetration_relative = most[1];
+    }
     if (!out.empty()) out += "; ";
     out += fmt::format("contact '{}': {} nodes, normal force {:.4g}, largest penetration {:.2e} "
                        "({:.1e} of the element size)",

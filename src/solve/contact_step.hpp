@@ -76,7 +76,15 @@ class ContactStep {
  private:
   Vec3 position(int body, int i, const std::vector<double>& u) const;
 
+  /// Point i of surface b counts here: on a distributed mesh each point is counted, and adds
+  /// its forces and matrix, on the rank that owns its node alone (its other copies follow the
+  /// same states); elsewhere every point counts on every rank.
+  bool counts(std::size_t b, std::size_t i) const { return owned_.empty() || owned_[b][i]; }
+
   const Model* m_;
+  bool distributed_ = false;
+  std::vector<std::vector<char>> owned_;  ///< per surface and point, on a distributed mesh
+  std::vector<double> k_min_, k_max_;     ///< per surface: the points' stiffness, over the ranks
   std::vector<Vec3> m0_, m1_;  ///< translation of each surface at t and t + Δt
   // Per surface and point, during a step:
   std::vector<std::vector<Vec3>> r_t_;          ///< the position at t (fixed in the step)

@@ -661,7 +661,8 @@ void Equilibrium::mix(State& trial) {
   // A distributed mesh: a ghost's rows are its owner's (weight 0 here).
   const bool distributed = layout_.kind() == NodalLayout::Kind::distributed;
   if (distributed) std::fill(mix_weights_.begin() + own_free_, mix_weights_.begin() + n_u, 0.0);
-  // Every rank holds every contact node: its rows, summed over the ranks, count once.
+  // With the whole mesh every rank holds every contact node: its rows, summed over the ranks,
+  // count once. (A distributed mesh's contact weights are its owners' alone.)
   const double share = only_ ? 1.0 / par::size() : 1.0;
   for (std::size_t j = 0; j < n_c; ++j) mix_weights_[n_u + n_l + j] = share * contact_weights_[j];
   mix_x_.resize(n);

@@ -14,6 +14,7 @@
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
+#include "parallel/nodal_layout.hpp"
 
 namespace hencky {
 
@@ -26,11 +27,14 @@ int heat_degree(CellType type) {
   return std::max(default_degree(type), 2 * order);
 }
 
-double norm(const std::vector<double>& v, const std::vector<int>& eq) {
+/// The norm of a nodal vector over the free nodes: each node counted once over the ranks (a
+/// distributed mesh's ghosts are left to their owners).
+double norm(const NodalLayout& layout, const std::vector<double>& v, const std::vector<int>& eq) {
+  const std::size_t own = layout.owned_entries(v.size(), 1, static_cast<int>(v.size()));
   double s = 0;
-  for (std::size_t n = 0; n < v.size(); ++n)
+  for (std::size_t n = 0; n < own; ++n)
     if (eq[n] >= 0) s += v[n] * v[n];
-  return std::sqrt(s);
+  return std::sqrt(layout.total(s));
 }
 
 }  // namespace
@@ -418,6 +422,7 @@ void HeatSolver::natural_flows(const std::vector<double>& T, double t,
                         da;
     });
   }
+  model_.layout().total(q);  // a distributed mesh's outer faces are each on one part
 }
 
 bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, std::string& why) {
@@ -436,7 +441,7 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
     const double key = transient ? dt * (2 - theta_) : 0.0;  // one number for (Δt, θ ∈ [½, 1])
     const bool matrix = !linear_ || factored_dt_ != key;
     evaluate(to.T, from, t1, matrix && n_free > 0, ev);
-    const double g = norm(ev.G, eq), s = norm(ev.S, eq);
+    const double g = norm(model_.layout(), ev.G, eq), s = norm(model_.layout(), ev.S, eq);
     const double r = s > 0 ? g / s : 0.0;
     if (!std::isfinite(r)) {
       why = fmt::format("the temperatures are no longer finite numbers after {} iterations", it);
@@ -459,9 +464,16 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       to.flow.assign(spec_.boundary.size(), 0.0);
       for (std::size_t b = 0; b < spec_.boundary.size(); ++b)
         to.flow[b] = theta * to.flow_now[b] + (1 - theta) * q0[b];
+      // The reactions of the fixed temperatures, each node once: on a distributed mesh, each
+      // rank adds its own nodes' and the ranks' shares are summed (root's holds the rest).
+      const NodalLayout& layout = model_.layout();
+      const bool parts = layout.kind() == NodalLayout::Kind::distributed;
+      if (parts && !par::root()) std::fill(to.flow.begin(), to.flow.end(), 0.0);
       const auto& fixed = model_.heat_fixed();
-      for (std::size_t n = 0; n < fixed.size(); ++n)
+      const std::size_t own = layout.owned_entries(fixed.size(), 1, static_cast<int>(fixed.size()));
+      for (std::size_t n = 0; n < own; ++n)
         if (fixed[n] >= 0) to.flow[fixed[n]] += ev.G[n];
+      layout.total(to.flow);
       to.energy = from.energy;
       to.energy.resize(to.flow.size(), 0.0);
       for (std::size_t b = 0; b < to.flow.size(); ++b) to.energy[b] += to.flow[b] * dt;
@@ -503,6 +515,8 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       }
       t_scale = std::max(t_scale, std::abs(to.T[n] - model_.reference_temperature()));
     }
+    last_correction = model_.layout().largest(last_correction);
+    t_scale = model_.layout().largest(t_scale);
   }
 }
 
@@ -594,10 +608,11 @@ bool HeatSolver::gmres(const std::vector<double>& T, const HeatSnapshot& from, d
     for (std::size_t i = 0; i < nn; ++i)
       if (eq[i] >= 0) out[eq[i]] = Jv[i];
   };
-  auto dot = [](const std::vector<double>& u, const std::vector<double>& w) {
-    double s = 0;
-    for (std::size_t i = 0; i < u.size(); ++i) s += u[i] * w[i];
-    return s;
+  // Over this rank's own free dofs (their prefix), summed over the ranks of a distributed
+  // mesh; a replicated mesh's vectors are whole on every rank.
+  const std::size_t own_free = static_cast<std::size_t>(model_.layout().owned_free(eq, 1));
+  auto dot = [&](const std::vector<double>& u, const std::vector<double>& w) {
+    return model_.layout().dot(u, w, own_free);
   };
   const double b_norm = std::sqrt(dot(b, b));
   if (!(b_norm > 0)) return true;
@@ -810,6 +825,20 @@ std::vector<double> nodal_heat_flux(const Model& model, const std::vector<double
       const Vec3 qa = -mat.conductivity(T[nodes[a]]) * g;
       for (int d = 0; d < 3; ++d) q[3 * nodes[a] + d] += qa[d];
       ++count[nodes[a]];
+    }
+  }
+  // A distributed mesh's copies of a node each hold their cells' share: summed, with the
+  // counts, over the copies. (A replicated mesh's ranks each went over every cell.)
+  if (model.layout().kind() == NodalLayout::Kind::distributed) {
+    std::vector<double> sums(4 * static_cast<std::size_t>(mesh.n_nodes()));
+    for (int m = 0; m < mesh.n_nodes(); ++m) {
+      for (int d = 0; d < 3; ++d) sums[4 * m + d] = q[3 * m + d];
+      sums[4 * m + 3] = count[m];
+    }
+    model.layout().sum(sums, 4);
+    for (int m = 0; m < mesh.n_nodes(); ++m) {
+      for (int d = 0; d < 3; ++d) q[3 * m + d] = sums[4 * m + d];
+      count[m] = static_cast<int>(std::lround(sums[4 * m + 3]));
     }
   }
   for (int m = 0; m < mesh.n_nodes(); ++m)

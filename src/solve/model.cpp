@@ -520,6 +520,12 @@ void Model::bind_contact() {
         break;
       case ContactSpec::Shape::mesh: body.surface = make_stl_surface(spec.file, spec.scale); break;
     }
+    // A part's points come from the whole model (share_contact): the areas, element sizes and
+    // stiffness of a node on the part's border are the whole mesh's, and root checked them.
+    if (part_) {
+      contacts_.push_back(std::move(body));
+      continue;
+    }
     body.points = contact_points(mesh_, region, spec.nodes_where);
 
     // Stiffness scale of each point for κ = auto: tr(K_aa)/3 of the elastic matrix at T_ref,
@@ -563,6 +569,51 @@ void Model::bind_contact() {
                         spec.penetration));
     }
     contacts_.push_back(std::move(body));
+  }
+}
+
+void Model::share_contact(const std::vector<std::vector<ContactPoint>>& whole) {
+  if (!part_ || contacts_.empty()) return;
+  std::unordered_map<int, int> local;  // whole-mesh node -> this part's
+  local.reserve(static_cast<std::size_t>(mesh_.n_nodes()));
+  for (int n = 0; n < mesh_.n_nodes(); ++n) local.emplace(part_->global_node[n], n);
+  constexpr int w = 16;  // a point as numbers (node indices are exact as doubles)
+  for (std::size_t b = 0; b < contacts_.size(); ++b) {
+    std::vector<double> v;
+    if (par::root())
+      for (const ContactPoint& p : whole.at(b))
+        v.insert(v.end(),
+                 {double(p.node), double(p.terms), double(p.term_node[0]), double(p.term_node[1]),
+                  double(p.term_node[2]), p.term_coef[0], p.term_coef[1], p.term_coef[2], p.x.x(),
+                  p.x.y(), p.x.z(), p.area, p.size, p.stiffness, p.gap0, 0.0});
+    int n = static_cast<int>(v.size() / w);
+    par::broadcast(std::span<int>(&n, 1));
+    v.resize(static_cast<std::size_t>(w) * n);
+    par::broadcast(std::span<double>(v));
+    ContactBody& body = contacts_[b];
+    body.points.clear();
+    body.whole_index.clear();
+    body.whole_points = n;
+    for (int i = 0; i < n; ++i) {
+      const double* x = &v[static_cast<std::size_t>(w) * i];
+      const auto at = local.find(static_cast<int>(x[0]));
+      if (at == local.end()) continue;
+      ContactPoint p;
+      p.node = at->second;
+      p.terms = static_cast<int>(x[1]);
+      // A cell that holds a mid-edge node holds its edge's corners: the part has them.
+      for (int k = 0; k < p.terms; ++k) {
+        p.term_node[k] = local.at(static_cast<int>(x[2 + k]));
+        p.term_coef[k] = x[5 + k];
+      }
+      p.x = Vec3(x[8], x[9], x[10]);
+      p.area = x[11];
+      p.size = x[12];
+      p.stiffness = x[13];
+      p.gap0 = x[14];
+      body.points.push_back(p);
+      body.whole_index.push_back(i);
+    }
   }
 }
 

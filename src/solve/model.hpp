@@ -80,6 +80,11 @@ class Model {
   Model(const Case& c, MeshPart part, Log& log);
   /// Completes a part model with what the ranks know together (above). Collective.
   void join();
+  /// A part model's contact points, from the whole model's on root (`whole`: each surface's
+  /// points, ignored on the other ranks). Each rank keeps the points whose node its part
+  /// holds, with the whole mesh's areas, element sizes and stiffness, so that every copy of a
+  /// point is the serial run's. Collective; nothing to do on a whole mesh.
+  void share_contact(const std::vector<std::vector<ContactPoint>>& whole);
   /// The mesh, moved out: what the rank that read it sends out in parts once the whole model
   /// has checked it. The model is of no use after.
   Mesh take_mesh() && { return std::move(mesh_); }

@@ -88,3 +88,68 @@ TEST(PartModel, CountsLoadsAndProbesAreTheWholeModels) {
   for (std::size_t k = 0; k < m.reaction_regions().size(); ++k)
     EXPECT_EQ(m.reaction_regions()[k].force, w.reaction_regions()[k].force);
 }
+
+// A contact surface on a distributed mesh (Model::share_contact): each rank holds every point
+// whose node its part holds, with the whole model's tributary area, element size, stiffness and
+// quadratic-face terms (a part's own faces would give a node on its border a share of them);
+// each point is owned by one rank.
+TEST(PartModel, ContactPointsAreTheWholeModels) {
+  par::ensure_petsc();
+  TempDir dir("part_model_contact");
+  write_file(dir / "box.geo", box_geo(2, 1, 1, 0.25));
+  write_file(dir / "case.yaml", R"yaml(title: part model, contact
+mesh: {file: box.geo, order: 2}
+materials:
+  - {name: steel, E: 2.0e11, nu: 0.3}
+boundary:
+  - {region: x0, displacement: {x: 0, y: 0, z: 0}}
+contact:
+  - name: floor
+    nodes: z0
+    surface: {plane: {point: [0, 0, -0.001], normal: [0, 0, 1]}}
+solver: {steps: 1}
+)yaml");
+  Log log;
+  log.silent = true;
+  const LoadedCase whole = load_case(dir / "case.yaml", log);
+  const Model& w = *whole.model;
+  const int ranks = par::size();
+  const Partition partition =
+      partition_from(w.mesh(), split_cells(w.mesh(), ranks), ranks, par::rank());
+  MeshPart part = extract_part(w.mesh(), partition);
+  const std::vector<int> global_node = part.global_node;
+  Model m(*whole.spec, std::move(part), log);
+  std::vector<std::vector<ContactPoint>> points;
+  for (const ContactBody& b : w.contacts()) points.push_back(b.points);
+  m.share_contact(par::root() ? points : std::vector<std::vector<ContactPoint>>());
+  m.join();
+  const ContactBody& all = w.contacts().at(0);
+  const ContactBody& mine = m.contacts().at(0);
+  ASSERT_EQ(mine.whole_points, static_cast<int>(all.points.size()));
+  ASSERT_EQ(mine.whole_index.size(), mine.points.size());
+  // Every local node of the region has its point.
+  const Region* z0 = nullptr;
+  for (const Region& r : m.mesh().regions)
+    if (r.name == "z0") z0 = &r;
+  ASSERT_NE(z0, nullptr);
+  EXPECT_EQ(mine.points.size(), z0->nodes.size());
+  int owned = 0, quadratic = 0;
+  for (std::size_t i = 0; i < mine.points.size(); ++i) {
+    const ContactPoint& p = mine.points[i];
+    const ContactPoint& q = all.points.at(mine.whole_index[i]);
+    EXPECT_EQ(global_node[p.node], q.node);
+    EXPECT_EQ(p.area, q.area);
+    EXPECT_EQ(p.size, q.size);
+    EXPECT_EQ(p.stiffness, q.stiffness);
+    EXPECT_EQ(p.gap0, q.gap0);
+    ASSERT_EQ(p.terms, q.terms);
+    for (int k = 0; k < p.terms; ++k) {
+      EXPECT_EQ(global_node[p.term_node[k]], q.term_node[k]);
+      EXPECT_EQ(p.term_coef[k], q.term_coef[k]);
+    }
+    owned += m.partition().node_owner[p.node] == par::rank();
+    quadratic += p.terms == 3;
+  }
+  EXPECT_GT(quadratic, 0);
+  EXPECT_EQ(par::sum(static_cast<long long>(owned)), static_cast<long long>(all.points.size()));
+}

@@ -28,6 +28,22 @@ else bad "heat: no heat_flux field in step_0004.vtu"; fi
 # The block carries no load: the net reaction of its held bottom is round-off (below 1e-9 N),
 # which the ranks' sums need not reproduce.
 parallel_suite "heat" "$hd" "displacement,stress,temperature,heat_flux" '^reaction\.bottom\.'
+# On ranks the heat analysis runs on the distributed mesh (issue 21): each rank holds its part
+# and its temperatures. A restart at t = 30 on 3 ranks is the uninterrupted 3-rank run; the
+# serial run's checkpoint restarted on 2 ranks gives the serial run.
+mpi_expect "heat: on 2 ranks the mesh is distributed" 0 "distributed mesh: 2 ranks" 2 -- \
+  run "$hd/case-direct.yaml" -o "$hd/dist2"
+mpi_expect "heat: restarted at t = 30 on 3 ranks" 0 "" 3 -- \
+  run "$hd/case-direct.yaml" --quiet --restart "$hd/mumps3" --from 30 -o "$hd/from30-3"
+same "heat: ... = the uninterrupted run on 3 ranks to 1e-12" "$hd/mumps3" "$hd/from30-3" 1e-12 \
+  displacement,stress,temperature,heat_flux
+same_history "heat: ... and its history.csv to 1e-12" "$hd/mumps3" "$hd/from30-3" 1e-12
+mpi_expect "heat: the serial run's checkpoint restarted at t = 30 on 2 ranks" 0 "" 2 -- \
+  run "$hd/case-direct.yaml" --quiet --restart "$hd/direct" --from 30 -o "$hd/from30-s2"
+same "heat: ... = the serial run to 1e-8" "$hd/direct" "$hd/from30-s2" 1e-8 \
+  displacement,stress,temperature,heat_flux
+same_history "heat: ... and its history.csv to 1e-8" "$hd/direct" "$hd/from30-s2" 1e-8 \
+  '^reaction\.bottom\.'
 
 # --- A heat analysis that does not converge stops with status 2 and keeps what converged:
 # radiation from surroundings at 1500 degrees switched on at t = 30, two Newton iterations

@@ -92,6 +92,22 @@ if command -v mpirun >/dev/null; then
     same "restart: ... on $np ranks, the results of the uninterrupted run on 2" "$rd/mpi.out" \
       "$rd/mpi-$np.out" 1e-6 "displacement,stress,plastic_strain"
   done
+  # Contact on the distributed mesh (issue 21): the states of the contact points are gathered
+  # into the checkpoint in the whole model's order, and each rank takes its part's back.
+  with_linear direct "$rd/ind/case.yaml"
+  mpi 2 run "$rd/ind/case-direct.yaml" --quiet -o "$rd/ind/mpi.out" >/dev/null 2>&1 ||
+    bad "restart: the indentation on 2 ranks failed"
+  same "restart: the indentation on 2 ranks = serial to 1e-6" "$rd/ind/case.out" "$rd/ind/mpi.out" \
+    1e-6 "displacement,stress,plastic_strain,contact_pressure"
+  mpi_expect "restart: the indentation written on 2 ranks, restarted at t = 1.5 on 3" 0 "" 3 -- \
+    run "$rd/ind/case-direct.yaml" --quiet --restart "$rd/ind/mpi.out" --from 1.5 \
+    -o "$rd/ind/mpi-3.out"
+  same "restart: ... the results of the uninterrupted run on 2" "$rd/ind/mpi.out" \
+    "$rd/ind/mpi-3.out" 1e-6 "displacement,stress,plastic_strain,contact_pressure"
+  expect "restart: ... and at t = 0.5 on 1" 0 "" -- run "$rd/ind/case-direct.yaml" --quiet \
+    --restart "$rd/ind/mpi.out" --from 0.5 -o "$rd/ind/mpi-1.out"
+  same "restart: ... the results of the uninterrupted run on 2" "$rd/ind/mpi.out" \
+    "$rd/ind/mpi-1.out" 1e-6 "displacement,stress,plastic_strain,contact_pressure"
 fi
 
 # --- Interruption: SIGINT once. The indentation in 24 steps; the signal comes when the third
