@@ -1,8 +1,8 @@
 # Sourced by run_cli_tests.sh: the PETSc back end, serial and under mpirun (issue 5). The same
-# coarse example is run with the serial direct solver, with PETSc on one process, and on 2 and 3
-# MPI ranks; every step's displacement, stress and (with contact) contact pressure must agree:
-# to 1e-8 relative for the direct solvers (CHOLMOD and MUMPS), to the Newton tolerance for
-# CG + GAMG. Then the outputs are written once, and an error on one rank stops every rank.
+# coarse example is run with the serial direct solver, with PETSc on one process, and on 2, 3
+# and 4 MPI ranks; every step's displacement, stress and (with contact) contact pressure must
+# agree: to 1e-10 relative for the direct solvers (CHOLMOD and MUMPS), to the Newton tolerance
+# for CG + GAMG. Then the outputs are written once, and an error on one rank stops every rank.
 cmp_py="$src/tests/tools/compare_results.py"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # mpi NP ARGS...: hencky on NP ranks, one thread each (the ranks share the 2 cores), at most
@@ -84,8 +84,10 @@ with_linear() {
   grep -q "linear: $1" "${2%.yaml}-$1.yaml" || bad "$(basename "$2"): no 'solver:' line"
 }
 with_petsc() { with_linear petsc "$1"; }
-# parallel_suite NAME DIR FIELDS [SKIP]: the four runs of the case DIR/case.yaml, compared with
-# the serial direct run (SKIP: history columns same_history leaves out).
+# parallel_suite NAME DIR FIELDS [SKIP]: the runs of the case DIR/case.yaml on 1 to 4 ranks,
+# compared with the serial direct run (SKIP: history columns same_history leaves out). MUMPS on
+# the distributed mesh gives the serial direct answers to 1e-10 (issue 21; measured: 1e-13 and
+# below), CG + GAMG to the solver's tolerance.
 parallel_suite() {
   local name="$1" d="$2" fields="$3" skip="${4:-^$}"
   with_petsc "$d/case.yaml"
@@ -95,13 +97,17 @@ parallel_suite() {
   mpi_expect "$name: 2 ranks, MUMPS (the default for direct)" 0 "" 2 -- \
     run "$d/case-direct.yaml" -o "$d/mumps2" --quiet
   mpi_expect "$name: 3 ranks, MUMPS" 0 "" 3 -- run "$d/case-direct.yaml" -o "$d/mumps3" --quiet
+  # 4 ranks, oversubscribed on this 2-core machine.
+  mpi_expect "$name: 4 ranks, MUMPS" 0 "" 4 -- run "$d/case-direct.yaml" -o "$d/mumps4" --quiet
   mpi_expect "$name: 2 ranks, CG + GAMG" 0 "" 2 -- run "$d/case-petsc.yaml" -o "$d/gamg2" --quiet
-  same "$name: 2 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps2" 1e-8 "$fields"
-  same "$name: 3 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps3" 1e-8 "$fields"
-  # Probes evaluated by the rank that owns their cell, reactions and contact totals summed over
-  # the nodes each rank owns.
-  same_history "$name: 3 ranks MUMPS, probes, reactions, contact in history.csv = serial to 1e-8" \
-    "$d/direct" "$d/mumps3" 1e-8 "$skip"
+  local np
+  for np in 2 3 4; do
+    same "$name: $np ranks MUMPS = serial direct to 1e-10" "$d/direct" "$d/mumps$np" 1e-10 "$fields"
+    # Probes evaluated by the rank that owns their cell, reactions and contact totals summed
+    # over the nodes each rank owns.
+    same_history "$name: $np ranks MUMPS, probes, reactions, contact in history.csv = serial to 1e-10" \
+      "$d/direct" "$d/mumps$np" 1e-10 "$skip"
+  done
   same "$name: serial GAMG = serial direct to 1e-7" "$d/direct" "$d/petsc1" 1e-7 "$fields"
   same "$name: 2 ranks GAMG = serial direct to 1e-7" "$d/direct" "$d/gamg2" 1e-7 "$fields"
 }
@@ -123,13 +129,6 @@ ex_check "parallel lame-cylinder: history.csv written once (a header and 2 steps
 pieces "parallel lame-cylinder: 3 ranks write a .pvtu a step, with 3 pieces that hold each cell once" \
   "$d/mumps3" 3
 pieces "parallel lame-cylinder: 2 ranks, 2 pieces" "$d/gamg2" 2
-# 4 ranks (oversubscribed on this 2-core machine): the same answers and 4 pieces.
-mpi_expect "parallel lame-cylinder: 4 ranks, MUMPS" 0 "" 4 -- \
-  run "$d/case-direct.yaml" -o "$d/mumps4" --quiet
-same "parallel lame-cylinder: 4 ranks MUMPS = serial direct to 1e-8" "$d/direct" "$d/mumps4" 1e-8 \
-  displacement,stress
-same_history "parallel lame-cylinder: 4 ranks MUMPS, history.csv = serial to 1e-8" "$d/direct" \
-  "$d/mumps4" 1e-8
 pieces "parallel lame-cylinder: 4 ranks, 4 pieces" "$d/mumps4" 4
 # The mesh is distributed on ranks (issue 21): root reads and splits it, each rank holds its
 # part. HENCKY_REPLICATED=1 keeps the whole mesh on every rank (docs/development.md), which must
