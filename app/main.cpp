@@ -202,6 +202,95 @@ bool replicated_by_environment() {
   return v && *v && std::string(v) != "0";
 }
 
+/// A rank's model as run() loaded it, and what the log says of the whole.
+struct Loaded {
+  LoadedCase l;
+  std::string mesh_line, parts_line;         // the whole mesh and its parts
+  std::vector<std::string> contact_lines;    // the whole model's contact
+  std::optional<CheckpointMesh> whole_mesh;  // root's record of it on a distributed mesh
+};
+
+/// The distributed way (docs/parallel.md, "Distributing the mesh"): root reads and checks the
+/// whole model, as a serial run does, records what the log and the checkpoints need of it,
+/// splits it and sends each rank its part; each rank binds the case to its part. Returns 0, or
+/// the exit status when a rank failed (reported). Collective.
+int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
+                     const SourceLocation& dir_where, Log& log, Loaded& out) {
+  LoadedCase& l = out.l;
+  LoadedCase whole;  // root's
+  if (int code = together([&] {
+        if (par::root()) {
+          whole = load_case(std::move(spec), log);
+          check_output_space(*whole.model, dir, dir_where, log);
+        } else {
+          l.spec = std::move(spec);
+        }
+      }))
+    return code;
+  std::unique_ptr<Mesh> mesh;
+  std::vector<int> owner;
+  std::vector<std::vector<ContactPoint>> contact_points;  // root's, of the whole model
+  if (par::root()) {
+    const Model& m = *whole.model;
+    out.mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
+    owner = split_cells(m.mesh(), par::size());
+    out.whole_mesh = checkpoint_mesh(m.mesh());
+    out.contact_lines = describe_contact(m);
+    for (const ContactBody& b : m.contacts()) contact_points.push_back(b.points);
+    mesh = std::make_unique<Mesh>(std::move(*whole.model).take_mesh());
+    whole.model.reset();
+    l.spec = std::move(whole.spec);
+    l.mesh_seconds = whole.mesh_seconds;
+    l.setup_seconds = whole.setup_seconds;
+  }
+  out.whole_mesh = broadcast_mesh_record(out.whole_mesh);  // every rank checks a restart with it
+  MeshPart part = scatter_parts(mesh.get(), owner);
+  mesh.reset();
+  owner = {};
+  if (int code = together([&] {
+        Log quiet;  // root's whole model has said what there is to say
+        quiet.silent = true;
+        l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
+      }))
+    return code;
+  l.model->share_contact(contact_points);
+  contact_points = {};
+  l.model->join();
+  const Partition& p = l.model->partition();
+  out.parts_line = fmt::format(
+      "distributed mesh: {} ranks, {} .. {} elements and {} .. {} nodes per rank "
+      "(owned; {} .. {} with the ghosts)",
+      par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
+      par::max(p.owned_nodes), par::min(l.model->mesh().n_nodes()),
+      par::max(l.model->mesh().n_nodes()));
+  return 0;
+}
+
+/// One rank, or the whole mesh on every rank (HENCKY_REPLICATED=1): each reads the case's mesh
+/// and binds the whole model, and the ranks check that they read the same. Collective.
+int load_replicated(std::unique_ptr<Case> spec, const fs::path& dir,
+                    const SourceLocation& dir_where, Log& log, Loaded& out) {
+  LoadedCase& l = out.l;
+  if (int code = together([&] { l = load_case(std::move(spec), log); })) return code;
+  const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
+                              l.model->dofs().n_free};
+  for (long long v : shape)
+    if (par::max(v) != par::min(v)) {
+      if (par::root())
+        std::cerr << "error: the ranks read different models (node, element or unknown "
+                     "counts differ): give every rank the same case file and mesh\n";
+      return 1;
+    }
+  if (int code = together([&] {
+        if (par::root()) check_output_space(*l.model, dir, dir_where, log);
+      }))
+    return code;
+  out.mesh_line =
+      fmt::format("{}; {} unknowns", describe_mesh(l.model->mesh()), l.model->dofs().n_free);
+  out.contact_lines = describe_contact(*l.model);
+  return 0;
+}
+
 int run(const std::string& case_path, const std::string& out_dir, bool quiet,
         const std::string& petsc_options, const std::string& threads_warning,
         const std::string& restart, std::optional<double> from) {
@@ -210,13 +299,11 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.quiet = quiet;
   log.silent = !par::root();
   if (!threads_warning.empty()) log.warn(threads_warning);
-  LoadedCase l;
   fs::path dir;  // the output directory, from -o or output.dir
   SourceLocation dir_where;
   // On several ranks the mesh is distributed (docs/parallel.md): root reads it and checks the
   // whole model, splits it and sends each rank its part; no rank holds the whole after.
   bool distribute = false;
-  LoadedCase whole;  // root's, while the mesh is distributed
   std::unique_ptr<Case> spec;
   long long case_print = 0;  // of the case file's text: the ranks must have read the same
   if (int code = together([&] {
@@ -241,78 +328,15 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
                    "every rank the same case file and mesh\n";
     return 1;
   }
-  if (int code = together([&] {
-        if (!distribute)
-          l = load_case(std::move(spec), log);
-        else if (par::root())
-          whole = load_case(std::move(spec), log);
-        else
-          l.spec = std::move(spec);
-      }))
+  Loaded loaded;
+  if (int code = distribute ? load_distributed(std::move(spec), dir, dir_where, log, loaded)
+                            : load_replicated(std::move(spec), dir, dir_where, log, loaded))
     return code;
-  std::string mesh_line, parts_line;         // the whole mesh and its parts, for the log
-  std::vector<std::string> contact_lines;    // the whole model's contact, for the log
-  std::optional<CheckpointMesh> whole_mesh;  // root's record of it, for the checkpoints
-  if (distribute) {
-    if (int code = together([&] {
-          if (par::root()) check_output_space(*whole.model, dir, dir_where, log);
-        }))
-      return code;
-    std::unique_ptr<Mesh> mesh;
-    std::vector<int> owner;
-    std::vector<std::vector<ContactPoint>> contact_points;  // root's, of the whole model
-    if (par::root()) {
-      const Model& m = *whole.model;
-      mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
-      owner = split_cells(m.mesh(), par::size());
-      whole_mesh = checkpoint_mesh(m.mesh());
-      contact_lines = describe_contact(m);
-      for (const ContactBody& b : m.contacts()) contact_points.push_back(b.points);
-      mesh = std::make_unique<Mesh>(std::move(*whole.model).take_mesh());
-      whole.model.reset();
-      l.spec = std::move(whole.spec);
-      l.mesh_seconds = whole.mesh_seconds;
-      l.setup_seconds = whole.setup_seconds;
-    }
-    whole_mesh = broadcast_mesh_record(whole_mesh);  // every rank checks a restart with it
-    MeshPart part = scatter_parts(mesh.get(), owner);
-    mesh.reset();
-    owner = {};
-    if (int code = together([&] {
-          Log quiet;  // root's whole model has said what there is to say
-          quiet.silent = true;
-          l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
-        }))
-      return code;
-    l.model->share_contact(contact_points);
-    contact_points = {};
-    l.model->join();
-    const Partition& p = l.model->partition();
-    parts_line = fmt::format(
-        "distributed mesh: {} ranks, {} .. {} elements and {} .. {} nodes per rank "
-        "(owned; {} .. {} with the ghosts)",
-        par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
-        par::max(p.owned_nodes), par::min(l.model->mesh().n_nodes()),
-        par::max(l.model->mesh().n_nodes()));
-  } else {
-    // Every rank read its own copy of the case: they must all have read the same.
-    const long long shape[3] = {l.model->mesh().n_nodes(), l.model->mesh().cells.size(),
-                                l.model->dofs().n_free};
-    for (long long v : shape)
-      if (par::max(v) != par::min(v)) {
-        if (par::root())
-          std::cerr << "error: the ranks read different models (node, element or unknown "
-                       "counts differ): give every rank the same case file and mesh\n";
-        return 1;
-      }
-    if (int code = together([&] {
-          if (par::root()) check_output_space(*l.model, dir, dir_where, log);
-        }))
-      return code;
-    mesh_line =
-        fmt::format("{}; {} unknowns", describe_mesh(l.model->mesh()), l.model->dofs().n_free);
-    contact_lines = describe_contact(*l.model);
-  }
+  LoadedCase& l = loaded.l;
+  const std::string& mesh_line = loaded.mesh_line;
+  const std::string& parts_line = loaded.parts_line;
+  const std::vector<std::string>& contact_lines = loaded.contact_lines;
+  const std::optional<CheckpointMesh>& whole_mesh = loaded.whole_mesh;
   const Model& model = *l.model;
   const Case& c = *l.spec;
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
