@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {
@@ -46,8 +47,12 @@ MeshPart extract_part(const Mesh& whole, const Partition& partition) {
 
   std::vector<int> local_cell(whole.cells.size(), -1);
   std::vector<int> conn;
+  long long point = 0;  // the whole mesh's points before cell c
   for (int c = 0; c < whole.cells.size(); ++c) {
+    const long long first = point;
+    point += reference_table(whole.cells.type[c]).n_points;
     if (partition.cell_owner[c] != rank) continue;
+    part.global_point.push_back(first);
     conn.clear();
     for (int n : whole.cells.nodes(c)) conn.push_back(local[n]);
     local_cell[c] = m.cells.size();
@@ -177,7 +182,7 @@ class Reader {
   std::size_t at_ = 0;
 };
 
-constexpr std::uint64_t part_magic = 0x6865'6e63'6b79'7031;  // "hencky" part, version 1
+constexpr std::uint64_t part_magic = 0x6865'6e63'6b79'7032;  // "hencky" part, version 2
 
 }  // namespace
 
@@ -202,6 +207,7 @@ std::string pack(const MeshPart& part) {
   w.vector(part.node_owner);
   w.vector(part.owner_index);
   w.vector(part.global_cell);
+  w.vector(part.global_point);
   w.vector(part.global_face);
   return w.take();
 }
@@ -233,6 +239,7 @@ MeshPart unpack(std::string_view bytes) {
   r.vector(part.node_owner);
   r.vector(part.owner_index);
   r.vector(part.global_cell);
+  r.vector(part.global_point);
   r.vector(part.global_face);
   if (!r.done()) throw std::invalid_argument("not a packed mesh part");
   return part;

@@ -36,6 +36,10 @@ struct MeshPart {
   std::vector<int> node_owner;   ///< the rank that owns each local node
   std::vector<int> owner_index;  ///< each local node's index among its owner's own nodes
   std::vector<int> global_cell;  ///< the whole mesh's index of each local cell
+  /// Where each local cell's integration points start among the whole mesh's points, taken
+  /// cell by cell in the whole mesh's order with reference_table's points (the order of a
+  /// checkpoint's point data).
+  std::vector<long long> global_point;
   std::vector<int> global_face;  ///< the whole mesh's index of each local face
 };
 

@@ -91,18 +91,16 @@ void Model::join() {
   global_[0] = par::sum(static_cast<long long>(part_->owned_nodes));
   global_[1] = par::sum(static_cast<long long>(mesh_.cells.size()));
   global_[2] = par::sum(static_cast<long long>(layout_.owned_free(dofs_.eq, 3)));
-  // Where each cell's points start in the whole mesh's order: the cells' point counts in a
-  // vector of the whole mesh's cells (transient), summed over the ranks, then added up.
-  {
-    std::vector<double> start(global_[1] + 1, 0.0);
-    for (int e = 0; e < mesh_.cells.size(); ++e)
-      start[part_->global_cell[e] + 1] = point_offset_[e + 1] - point_offset_[e];
-    par::sum_in_place(std::span<double>(start));
-    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
-    whole_point_offset_.resize(mesh_.cells.size());
-    for (int e = 0; e < mesh_.cells.size(); ++e)
-      whole_point_offset_[e] = static_cast<long long>(start[part_->global_cell[e]]);
-  }
+  // Where each cell's points start in the whole mesh's order: the reading rank counted them
+  // (MeshPart::global_point), with the points this model holds.
+  whole_point_offset_ = part_->global_point;
+  if (whole_point_offset_.size() != static_cast<std::size_t>(mesh_.cells.size()))
+    throw std::logic_error("Model::join: the part has no point offsets for its cells");
+  long long end = 0;
+  for (int e = 0; e < mesh_.cells.size(); ++e)
+    end = std::max(end, whole_point_offset_[e] + point_offset_[e + 1] - point_offset_[e]);
+  if (par::max(end) != total_points_)
+    throw std::logic_error("Model::join: the part's point offsets are not the model's points");
   // A total force spreads over its region's whole area.
   std::vector<double> area(case_->boundary.size(), 0.0);
   for (const auto& [b, a] : part_areas_) area[b] += a;
@@ -704,11 +702,8 @@ void Model::external_forces(double t, std::vector<double>& f,
   } catch (const InputError&) {
     error = std::current_exception();
   }
-  if (par::any(error != nullptr)) {
-    if (error) std::rethrow_exception(error);
-    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
-                     "a load met an input error on another MPI rank");
-  }
+  par::rethrow_anywhere(error, SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                        "a load met an input error on another MPI rank");
   layout_.sum(f, 3);
 }
 

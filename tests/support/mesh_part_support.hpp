@@ -21,7 +21,7 @@ inline bool same_part(const MeshPart& a, const MeshPart& b) {
          same_cells(a.mesh.faces, b.mesh.faces) && a.owned_nodes == b.owned_nodes &&
          a.global_node == b.global_node && a.node_owner == b.node_owner &&
          a.owner_index == b.owner_index && a.global_cell == b.global_cell &&
-         a.global_face == b.global_face;
+         a.global_point == b.global_point && a.global_face == b.global_face;
 }
 
 }  // namespace hencky

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "fem/reference_element.hpp"
 #include "input/gmsh_reader.hpp"
 #include "mesh_part_support.hpp"
 #include "parallel/mesh_part.hpp"
@@ -51,6 +52,9 @@ TEST_F(MeshParts, PartsPutTheWholeMeshBackTogether) {
   const Mesh& whole = *mesh_;
   const int n_nodes = whole.n_nodes(), n_cells = whole.cells.size();
   ASSERT_GT(n_cells, 100);
+  std::vector<long long> first_point(n_cells + 1, 0);
+  for (int e = 0; e < n_cells; ++e)
+    first_point[e + 1] = first_point[e] + reference_table(whole.cells.type[e]).n_points;
   for (int parts : {2, 3}) {
     SCOPED_TRACE(std::to_string(parts) + " parts");
     const std::vector<int> owner = split_cells(whole, parts);
@@ -77,6 +81,8 @@ TEST_F(MeshParts, PartsPutTheWholeMeshBackTogether) {
           EXPECT_EQ(q.global_node[local[a]], global[a]);
         EXPECT_EQ(q.mesh.cells.tag[c], whole.cells.tag[g]);
         EXPECT_EQ(q.mesh.cell_region[c], whole.cell_region[g]);
+        // Its points start after those of the whole mesh's cells before it.
+        EXPECT_EQ(q.global_point.at(c), first_point[g]);
       }
       // The nodes: owned first, then ghosts; each ghost is at its owner where owner_index says.
       for (int n = 0; n < n_local; ++n) {
