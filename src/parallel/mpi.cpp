@@ -183,4 +183,11 @@ void abort_all(int code) {
   std::exit(code);
 }
 
+void rethrow_anywhere(const std::exception_ptr& error, const SourceLocation& where,
+                      const std::string& elsewhere) {
+  if (!any(error != nullptr)) return;
+  if (error) std::rethrow_exception(error);
+  throw InputError(where, elsewhere);
+}
+
 }  // namespace hencky::par

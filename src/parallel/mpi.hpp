@@ -3,10 +3,13 @@
 // only when it was launched by mpirun or when the PETSc back end is asked for: a serial run with
 // the direct solver never touches MPI. Every collective below is a no-op on one process, so the
 // step loop calls them unconditionally.
+#include <exception>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "core/error.hpp"
 
 namespace hencky::par {
 
@@ -63,6 +66,12 @@ std::string receive_bytes(int from);
 std::vector<std::string> gather_strings(const std::string& s);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).
 void sum_to_root(std::span<double> v);
+
+/// Every rank stops on an input error that one of them caught (`error`, null where none was):
+/// the rank that caught it rethrows it, the others throw InputError(where, elsewhere), so that
+/// root's report names the cause when root caught it. Collective; returns when none was caught.
+void rethrow_anywhere(const std::exception_ptr& error, const SourceLocation& where,
+                      const std::string& elsewhere);
 
 /// Ends every rank of the run at once (MPI_Abort) with exit status `code`; on one process,
 /// std::exit(code).

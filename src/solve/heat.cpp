@@ -383,11 +383,8 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
     model_.heat_assembler().matrices(
         kernel, [](int, const double*) {}, system_->own_cells());
   // Every rank stops on an error one of them found: the one that found it says what.
-  if (par::any(error != nullptr)) {
-    if (error) std::rethrow_exception(error);
-    throw InputError(SourceLocation{model_.spec().file.string(), 0, 0, "heat"},
-                     "the heat analysis met an input error on another MPI rank");
-  }
+  par::rethrow_anywhere(error, SourceLocation{model_.spec().file.string(), 0, 0, "heat"},
+                        "the heat analysis met an input error on another MPI rank");
   model_.layout().sum_blocks(sums, 4);
   ev.R.assign(R, R + n_nodes);
   ev.SR.assign(SR, SR + n_nodes);

@@ -37,6 +37,32 @@ output:
   reactions: [x0, p100]
 )yaml";
 
+/// The case in `dir` read whole on every rank, and this rank's model of its part of the whole
+/// mesh's METIS split (its contact points shared from root's whole model), joined.
+struct WholeAndPart {
+  LoadedCase whole;
+  std::vector<int> global_node;  ///< of the part's nodes
+  int owned = 0;
+  std::unique_ptr<Model> part;
+};
+WholeAndPart whole_and_part(const std::filesystem::path& case_file, Log& log) {
+  WholeAndPart out;
+  out.whole = load_case(case_file, log);
+  const Model& w = *out.whole.model;
+  const int ranks = par::size();
+  const Partition partition =
+      partition_from(w.mesh(), split_cells(w.mesh(), ranks), ranks, par::rank());
+  MeshPart part = extract_part(w.mesh(), partition);
+  out.global_node = part.global_node;
+  out.owned = part.owned_nodes;
+  out.part = std::make_unique<Model>(*out.whole.spec, std::move(part), log);
+  std::vector<std::vector<ContactPoint>> points;
+  for (const ContactBody& b : w.contacts()) points.push_back(b.points);
+  out.part->share_contact(par::root() ? points : std::vector<std::vector<ContactPoint>>());
+  out.part->join();
+  return out;
+}
+
 }  // namespace
 
 TEST(PartModel, CountsLoadsAndProbesAreTheWholeModels) {
@@ -46,16 +72,11 @@ TEST(PartModel, CountsLoadsAndProbesAreTheWholeModels) {
   write_file(dir / "case.yaml", case_yaml);
   Log log;
   log.silent = true;
-  const LoadedCase whole = load_case(dir / "case.yaml", log);
-  const Model& w = *whole.model;
-  const int ranks = par::size();
-  const Partition partition =
-      partition_from(w.mesh(), split_cells(w.mesh(), ranks), ranks, par::rank());
-  MeshPart part = extract_part(w.mesh(), partition);
-  const std::vector<int> global_node = part.global_node;
-  const int owned = part.owned_nodes;
-  Model m(*whole.spec, std::move(part), log);
-  m.join();
+  const WholeAndPart run = whole_and_part(dir / "case.yaml", log);
+  const Model& w = *run.whole.model;
+  const Model& m = *run.part;
+  const std::vector<int>& global_node = run.global_node;
+  const int owned = run.owned;
   ASSERT_NE(m.part(), nullptr);
   EXPECT_EQ(m.global_nodes(), w.mesh().n_nodes());
   EXPECT_EQ(m.global_cells(), w.mesh().cells.size());
@@ -111,18 +132,10 @@ solver: {steps: 1}
 )yaml");
   Log log;
   log.silent = true;
-  const LoadedCase whole = load_case(dir / "case.yaml", log);
-  const Model& w = *whole.model;
-  const int ranks = par::size();
-  const Partition partition =
-      partition_from(w.mesh(), split_cells(w.mesh(), ranks), ranks, par::rank());
-  MeshPart part = extract_part(w.mesh(), partition);
-  const std::vector<int> global_node = part.global_node;
-  Model m(*whole.spec, std::move(part), log);
-  std::vector<std::vector<ContactPoint>> points;
-  for (const ContactBody& b : w.contacts()) points.push_back(b.points);
-  m.share_contact(par::root() ? points : std::vector<std::vector<ContactPoint>>());
-  m.join();
+  const WholeAndPart run = whole_and_part(dir / "case.yaml", log);
+  const Model& w = *run.whole.model;
+  const Model& m = *run.part;
+  const std::vector<int>& global_node = run.global_node;
   const ContactBody& all = w.contacts().at(0);
   const ContactBody& mine = m.contacts().at(0);
   ASSERT_EQ(mine.whole_points, static_cast<int>(all.points.size()));
