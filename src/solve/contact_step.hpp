@@ -45,7 +45,8 @@ class ContactStep {
   /// (columns), for every ordered pair of the point's nodes (the PETSc back end).
   void add_matrix(const State& trial, const std::function<void(int, int, const Mat3&)>& add);
   /// The matrix last assembled no longer holds the G of the current states: a node entered
-  /// or left contact, its κ changed, or its normal turned by more than 1e-3 rad.
+  /// or left contact, its κ changed, or its normal turned by more than 1e-3 rad. On a
+  /// distributed mesh, on any rank (collective then, as update() and summary() are).
   bool matrix_stale(const State& trial) const;
   /// Report steps 3-4 for every node after a solve, then the κ strategy. Throws SolveError
   /// when the contact set oscillates (a node changed state more than max_flips times in the

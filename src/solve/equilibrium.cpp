@@ -523,7 +523,9 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     restart_next_ = true;  // the history starts again at the plain iterate
     return;
   }
-  const bool refactor = new_elements || contact_.matrix_stale(trial);
+  // Asked on every rank: on a distributed mesh the ranks agree on it (collective).
+  const bool stale = contact_.matrix_stale(trial);
+  const bool refactor = new_elements || stale;
   if (refactor) assemble_and_factorize(c, trial, new_elements);
   // An iterative solve need only reduce this iterate's residual to 0.1 % of the step's
   // tolerance, not to its own default (an inexact Newton method with a fixed forcing term,
