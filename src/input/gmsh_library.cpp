@@ -32,6 +32,7 @@ struct Api {
   decltype(&::gmshModelMeshGetNodes) get_nodes = nullptr;
   decltype(&::gmshModelGetEntities) get_entities = nullptr;
   decltype(&::gmshModelGetPhysicalGroupsForEntity) groups_for_entity = nullptr;
+  decltype(&::gmshModelGetParent) get_parent = nullptr;
   decltype(&::gmshModelMeshGetElements) get_elements = nullptr;
   decltype(&::gmshModelGetPhysicalGroups) physical_groups = nullptr;
   decltype(&::gmshModelGetPhysicalName) physical_name = nullptr;
@@ -100,6 +101,7 @@ void load() {
       bind(library, api.get_nodes, "gmshModelMeshGetNodes");
       bind(library, api.get_entities, "gmshModelGetEntities");
       bind(library, api.groups_for_entity, "gmshModelGetPhysicalGroupsForEntity");
+      bind(library, api.get_parent, "gmshModelGetParent");
       bind(library, api.get_elements, "gmshModelMeshGetElements");
       bind(library, api.physical_groups, "gmshModelGetPhysicalGroups");
       bind(library, api.physical_name, "gmshModelGetPhysicalName");
@@ -205,6 +207,13 @@ std::vector<int> physical_groups_for_entity(int dim, int tag) {
   api.groups_for_entity(dim, tag, &p, &n, &ierr);
   check(ierr);
   return take(p, n);
+}
+
+std::pair<int, int> parent(int dim, int tag) {
+  int ierr = 0, parent_dim = -1, parent_tag = -1;
+  api.get_parent(dim, tag, &parent_dim, &parent_tag, &ierr);
+  check(ierr);
+  return {parent_dim, parent_tag};
 }
 
 void get_elements(int dim, int tag, std::vector<int>& types,

@@ -31,6 +31,8 @@ void set_order(int order);
 void get_nodes(std::vector<std::size_t>& tags, std::vector<double>& coords);
 std::vector<std::pair<int, int>> get_entities(int dim);
 std::vector<int> physical_groups_for_entity(int dim, int tag);
+/// The entity a partitioned entity is a piece of, (-1, -1) for a model entity.
+std::pair<int, int> parent(int dim, int tag);
 /// The element blocks of an entity (dim, tag; -1 for all): per element type its element tags
 /// and node tags.
 void get_elements(int dim, int tag, std::vector<int>& types,

@@ -75,6 +75,10 @@ MshData model_data() {
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> tags, nodes;
   for (auto [dim, tag] : gmsh::get_entities(-1)) {
+    // A partitioned mesh's boundaries between partitions are entities of a lower dimension
+    // than their parent, with elements that are not the model's (msh_reader.cpp).
+    const int parent_dim = gmsh::parent(dim, tag).first;
+    if (parent_dim >= 0 && parent_dim != dim) continue;
     d.entities.push_back(MshData::Entity{dim, tag, gmsh::physical_groups_for_entity(dim, tag)});
     gmsh::get_elements(dim, tag, types, tags, nodes);
     for (std::size_t k = 0; k < types.size(); ++k)

@@ -1,5 +1,7 @@
 #include "input/msh_reader.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <span>
 #include <tuple>
 #include <unordered_map>
@@ -16,8 +19,15 @@
 
 // The MSH formats as the Gmsh reference manual describes them (section "MSH file format",
 // versions 4.1 and 2.2; 4.0 from the Gmsh 4.0 manual). Only the sections hencky uses are
-// parsed: $MeshFormat, $PhysicalNames, $Entities, $Nodes and $Elements. Other sections are
-// skipped to their $End line; partitioned files are refused.
+// parsed: $MeshFormat, $PhysicalNames, $Entities, $PartitionedEntities, $Nodes and $Elements.
+// Other sections are skipped to their $End line.
+//
+// A partitioned mesh (gmsh -part N, MSH 4.1) classifies its nodes and elements on partitioned
+// entities, each the piece of a model entity (its parent) in one or more partitions. An entity
+// of its parent's dimension carries the parent's physical groups; one of lower dimension is a
+// boundary between partitions, whose elements Gmsh adds to the file: they are not the model's
+// and are skipped. The partitions saved in one file are read as the whole mesh; one file of a
+// mesh split into several (-part_split) is refused, for it holds a part only.
 
 namespace hencky {
 namespace {
@@ -42,9 +52,7 @@ class Parser {
       } else if (section == "$Entities" && version_ >= 4) {
         read_entities();
       } else if (section == "$PartitionedEntities") {
-        throw error(start,
-                    "partitioned meshes are not read: save the mesh without partitions "
-                    "(Mesh.PartitionSplitMeshFiles = 0, no -part)");
+        read_partitioned_entities(start);
       } else if (section == "$Nodes") {
         if (nodes) throw error(start, "a second $Nodes section");
         version_ >= 4 ? read_nodes4() : read_nodes2();
@@ -268,6 +276,53 @@ class Parser {
     }
   }
 
+  void read_partitioned_entities(std::size_t start) {
+    if (version_ != 4.1) throw error(start, "partitioned meshes are read in MSH format 4.1 only");
+    to_binary_data();
+    const std::size_t n_parts = tag_or_count("the number of partitions");
+    const std::size_t n_ghosts = tag_or_count("the number of ghost entities");
+    need(n_ghosts, binary_ ? 2 * sizeof(int) : 4, "$PartitionedEntities");
+    for (std::size_t k = 0; k < n_ghosts; ++k)
+      int_value("a ghost entity tag"), int_value("a ghost entity's partition");
+    std::size_t n[4];
+    for (auto& c : n) c = tag_or_count("an entity count");
+    std::set<int> volume_parts;  // the partitions of the file's volumes
+    for (int dim = 0; dim < 4; ++dim) {
+      need(n[dim], binary_ ? 3 * sizeof(int) : 6, "$PartitionedEntities");
+      for (std::size_t i = 0; i < n[dim]; ++i) {
+        const int tag = int_value("an entity tag");
+        const int parent_dim = int_value("a parent entity's dimension");
+        int_value("a parent entity tag");
+        const std::size_t n_in = tag_or_count("a number of partitions");
+        need(n_in, binary_ ? sizeof(int) : 2, "an entity's partitions");
+        std::vector<int> parts;
+        for (std::size_t k = 0; k < n_in; ++k) parts.push_back(int_value("a partition tag"));
+        for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity's coordinates");
+        const std::size_t n_phys = tag_or_count("a number of physical tags");
+        need(n_phys, binary_ ? sizeof(int) : 2, "an entity's physical tags");
+        std::vector<int> phys;
+        for (std::size_t k = 0; k < n_phys; ++k) phys.push_back(int_value("a physical tag"));
+        if (dim > 0) {
+          const std::size_t n_bound = tag_or_count("a number of bounding entities");
+          need(n_bound, binary_ ? sizeof(int) : 2, "an entity's bounding entities");
+          for (std::size_t k = 0; k < n_bound; ++k) int_value("a bounding entity");
+        }
+        if (parent_dim != dim) {  // a boundary between partitions
+          between_parts_.insert({dim, tag});
+          continue;
+        }
+        add_entity(dim, tag, phys);
+        if (dim == 3) volume_parts.insert(parts.begin(), parts.end());
+      }
+    }
+    if (!volume_parts.empty() && volume_parts.size() < n_parts)
+      throw error(start, fmt::format("the file holds {} of the {} partitions of a mesh split into "
+                                     "files (gmsh -part_split): hencky reads the whole mesh; save "
+                                     "it in one file (no -part_split, or "
+                                     "Mesh.PartitionSplitMeshFiles = 0)",
+                                     volume_parts.size(), n_parts));
+  }
+
   void add_node(std::size_t at, std::size_t tag) {
     if (tag == 0) throw error(at, "node tag 0 (tags start at 1)");
     if (!node_index_.emplace(tag, d_.node_tags.size()).second)
@@ -406,7 +461,8 @@ class Parser {
       seen += n;
       const std::size_t per = 1 + static_cast<std::size_t>(t.nodes);
       need(n, binary_ ? per * sizeof(std::size_t) : 2 * per, "an element block");
-      add_entity(dim, entity, {});
+      const bool skip = between_parts_.count({dim, entity}) > 0;  // not the model's elements
+      if (!skip) add_entity(dim, entity, {});
       MshData::Block block{dim, entity, type, {}, {}};
       block.tags.reserve(n);
       block.nodes.reserve(n * t.nodes);
@@ -423,7 +479,7 @@ class Parser {
         }
         element_nodes(at, values[0], values.data() + 1, t.nodes, block);
       }
-      d_.blocks.push_back(std::move(block));
+      if (!skip) d_.blocks.push_back(std::move(block));
     }
     if (seen != n_elements)
       throw error(pos_, "the $Elements header announces " + std::to_string(n_elements) +
@@ -522,6 +578,7 @@ class Parser {
   MshData d_;
   std::map<std::pair<int, int>, std::size_t> entity_index_;
   std::unordered_map<std::size_t, std::size_t> node_index_;
+  std::set<std::pair<int, int>> between_parts_;  ///< (dim, tag) of partition boundaries
   // Format 2: (dim, entity, type) -> block, and the element tags met.
   std::map<std::tuple<int, int, int>, std::size_t> block_of2_;
   std::unordered_set<std::size_t> seen_tags2_;

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
+#include <set>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -36,8 +38,10 @@ Physical Surface("right") = {2};
 Physical Curve("edge") = {1};
 )";
 
-/// Meshes the box with the Gmsh library and saves it in the given format.
-void save_box(const fs::path& file, double version, bool binary, int order = 1) {
+/// Meshes the box with the Gmsh library and saves it in the given format (partitioned in one
+/// file, when `partitions` > 0).
+void save_box(const fs::path& file, double version, bool binary, int order = 1,
+              int partitions = 0) {
   gmsh::initialize(0, nullptr, false);
   gmsh::option::setNumber("General.Terminal", 0);
   const fs::path geo = file.parent_path() / "box-src.geo";
@@ -48,6 +52,7 @@ void save_box(const fs::path& file, double version, bool binary, int order = 1) 
     gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
     gmsh::model::mesh::setOrder(2);
   }
+  if (partitions > 0) gmsh::model::mesh::partition(partitions);
   gmsh::option::setNumber("Mesh.MshFileVersion", version);
   gmsh::option::setNumber("Mesh.Binary", binary ? 1 : 0);
   gmsh::write(file.string());
@@ -439,9 +444,13 @@ TEST(GmshReader, MalformedMshFilesAreInputErrorsNamingTheLine) {
       // its end (fuzz/corpus/msh/regress-binary-version-line-unended.msh).
       {"binary-version-line-unended", "$MeshFormat\n4.1 1 8 \"x\"",
        "the file ends where the endianness check was expected"},
-      {"partitioned",
+      {"partitioned-empty",
        replaced(one_tet, "$EndMeshFormat\n", "$EndMeshFormat\n$PartitionedEntities\n"),
-       "partitioned meshes are not read"},
+       "the number of partitions (a non-negative integer) expected, found '$Nodes'"},
+      {"partitioned-4.0",
+       replaced(replaced(one_tet, "4.1 0 8", "4.0 0 8"), "$EndMeshFormat\n",
+                "$EndMeshFormat\n$PartitionedEntities\n"),
+       "partitioned meshes are read in MSH format 4.1 only"},
       {"not-a-mesh", "solid cube\nendsolid\n",
        ":1: not a valid Gmsh mesh file: the file does not start with $MeshFormat"},
       {"msh2-node-zero",
@@ -463,6 +472,88 @@ TEST(GmshReader, MalformedMshFilesAreInputErrorsNamingTheLine) {
   fs::remove_all(dir);
 }
 
+namespace {
+
+/// The same mesh as a set: node coordinates by node tag, cells and faces by element tag with
+/// their nodes' tags, regions by name with their cells' and nodes' tags (a partitioned file
+/// orders nodes and cells by partition).
+void expect_same_mesh_by_tags(const Mesh& a, const Mesh& b) {
+  auto nodes = [](const Mesh& m) {
+    std::map<long long, Vec3> out;
+    for (int n = 0; n < m.n_nodes(); ++n) out[m.node_tag[n]] = m.x[n];
+    return out;
+  };
+  auto cells = [](const Mesh& m, const CellSet& c) {
+    std::map<long long, std::vector<long long>> out;
+    for (int e = 0; e < c.size(); ++e)
+      for (int n : c.nodes(e)) out[c.tag[e]].push_back(m.node_tag[n]);
+    return out;
+  };
+  auto regions = [](const Mesh& m) {
+    std::map<std::string, std::pair<std::set<long long>, std::set<long long>>> out;
+    for (const Region& r : m.regions) {
+      auto& [c, n] = out[r.name + "/" + std::to_string(r.dim)];
+      for (int e : r.cells) c.insert(r.dim == 3 ? m.cells.tag[e] : m.faces.tag[e]);
+      for (int v : r.nodes) n.insert(m.node_tag[v]);
+    }
+    return out;
+  };
+  EXPECT_EQ(nodes(a), nodes(b));
+  EXPECT_EQ(cells(a, a.cells), cells(b, b.cells));
+  EXPECT_EQ(cells(a, a.faces), cells(b, b.faces));
+  EXPECT_EQ(regions(a), regions(b));
+}
+
+}  // namespace
+
+// A mesh that Gmsh partitioned (gmsh -part N) and saved in one file is the whole mesh: the
+// partitioned entities carry their parents' regions, and the boundaries between partitions,
+// whose elements Gmsh adds, are left out. One file of a mesh split into files (-part_split)
+// holds a part only: refused, saying so.
+TEST(GmshReader, PartitionsInOneFileAreTheWholeMeshAndASplitFileIsRefused) {
+  const fs::path dir = fresh_dir("partitioned");
+  gmsh::initialize(0, nullptr, false);
+  gmsh::option::setNumber("General.Terminal", 0);
+  std::ofstream(dir / "box-src.geo") << box_geo;
+  gmsh::open((dir / "box-src.geo").string());
+  gmsh::model::mesh::generate(3);
+  gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+  for (int binary : {0, 1}) {  // ASCII and binary coordinates differ in the last bit
+    gmsh::option::setNumber("Mesh.Binary", binary);
+    gmsh::write((dir / ("plain" + std::to_string(binary) + ".msh")).string());
+  }
+  gmsh::model::mesh::partition(3);
+  for (int binary : {0, 1}) {
+    gmsh::option::setNumber("Mesh.Binary", binary);
+    gmsh::write((dir / ("parts" + std::to_string(binary) + ".msh")).string());
+  }
+  gmsh::option::setNumber("Mesh.Binary", 0);
+  gmsh::option::setNumber("Mesh.PartitionSplitMeshFiles", 1);
+  gmsh::write((dir / "split.msh").string());
+  gmsh::finalize();
+
+  for (const std::string binary : {"0", "1"}) {
+    const std::string name = "parts" + binary + ".msh";
+    SCOPED_TRACE(name);
+    const Mesh plain = read_gmsh(dir / ("plain" + binary + ".msh"), {});
+    ASSERT_GT(plain.cells.size(), 10);
+    const Mesh parts = read_gmsh(dir / name, {});
+    EXPECT_EQ(parts.regions.size(), plain.regions.size());
+    expect_same_mesh_by_tags(plain, parts);
+    // The Gmsh library's reading (the way to an order conversion) gives the same.
+    expect_same_mesh_by_tags(plain, read_gmsh(dir / name, through_library()));
+  }
+  for (int k = 1; k <= 3; ++k) {
+    const fs::path piece = dir / ("split_" + std::to_string(k) + ".msh");
+    ASSERT_TRUE(fs::exists(piece));
+    const std::string e = read_error(piece);
+    EXPECT_NE(e.find(piece.string() + ":"), std::string::npos) << e;
+    EXPECT_NE(e.find("holds 1 of the 3 partitions of a mesh split into files"), std::string::npos)
+        << e;
+  }
+  fs::remove_all(dir);
+}
+
 // Every prefix of a binary and of an ASCII file, and a few thousand random byte changes: each
 // is read or refused as an input error, never a crash (the test runs under the sanitizers
 // too).
@@ -470,7 +561,8 @@ TEST(GmshReader, TruncatedAndMutatedFilesNeverCrash) {
   const fs::path dir = fresh_dir("mutated");
   save_box(dir / "b.msh", 4.1, true);
   save_box(dir / "b2.msh", 2.2, true);
-  for (const char* name : {"b.msh", "b2.msh"}) {
+  save_box(dir / "bp.msh", 4.1, true, 1, 3);  // partitioned
+  for (const char* name : {"b.msh", "b2.msh", "bp.msh"}) {
     std::ifstream in(dir / name, std::ios::binary);
     const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     ASSERT_GT(whole.size(), 1000u);
