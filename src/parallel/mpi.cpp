@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -150,6 +151,36 @@ std::string receive_bytes(int from) {
     MPI_Recv(bytes.data() + at, static_cast<int>(std::min<std::size_t>(chunk, n - at)), MPI_CHAR,
              from, 0, comm(), MPI_STATUS_IGNORE);
   return bytes;
+}
+
+std::vector<std::string> exchange_bytes(const std::vector<std::string>& to_each) {
+  const int p = size();
+  if (static_cast<int>(to_each.size()) != p)
+    throw std::invalid_argument("exchange_bytes: one entry per rank");
+  if (p == 1) return to_each;
+  std::vector<int> send_n(p), recv_n(p), send_at(p, 0), recv_at(p, 0);
+  long long out_total = 0, in_total = 0;
+  for (int r = 0; r < p; ++r) {
+    send_n[r] = static_cast<int>(std::min<std::size_t>(to_each[r].size(), INT_MAX));
+    out_total += static_cast<long long>(to_each[r].size());
+  }
+  MPI_Alltoall(send_n.data(), 1, MPI_INT, recv_n.data(), 1, MPI_INT, comm());
+  for (int r = 0; r < p; ++r) in_total += recv_n[r];
+  // MPI's counts and offsets are ints: every rank refuses together.
+  if (any(out_total > INT_MAX || in_total > INT_MAX))
+    throw std::invalid_argument("exchange_bytes: 2 GiB or more from or to one rank");
+  std::string out_all, in_all(static_cast<std::size_t>(in_total), '\0');
+  out_all.reserve(static_cast<std::size_t>(out_total));
+  for (int r = 0; r < p; ++r) {
+    send_at[r] = static_cast<int>(out_all.size());
+    out_all += to_each[r];
+  }
+  for (int r = 1; r < p; ++r) recv_at[r] = recv_at[r - 1] + recv_n[r - 1];
+  MPI_Alltoallv(out_all.data(), send_n.data(), send_at.data(), MPI_CHAR, in_all.data(),
+                recv_n.data(), recv_at.data(), MPI_CHAR, comm());
+  std::vector<std::string> out(p);
+  for (int r = 0; r < p; ++r) out[r] = in_all.substr(recv_at[r], recv_n[r]);
+  return out;
 }
 
 std::vector<std::string> gather_strings(const std::string& s) {

@@ -62,6 +62,9 @@ void broadcast(std::string& s);
 /// Point to point: `bytes` to rank `to`, and the bytes rank `from` sends (any length).
 void send_bytes(int to, std::string_view bytes);
 std::string receive_bytes(int from);
+/// All to all: to_each[r] goes to rank r (one entry per rank); returns what each rank sent
+/// here, by rank (each part below 2 GiB). Collective.
+std::vector<std::string> exchange_bytes(const std::vector<std::string>& to_each);
 /// Every rank's string, on root (in rank order); empty elsewhere.
 std::vector<std::string> gather_strings(const std::string& s);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).

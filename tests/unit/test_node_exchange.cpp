@@ -9,11 +9,15 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
+#include <sstream>
 
 #include "input/gmsh_reader.hpp"
 #include "mesh_part_support.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/node_exchange.hpp"
+#include "parallel/shared_nodes.hpp"
 #include "verify_support.hpp"
 
 using namespace hencky;
@@ -113,3 +117,59 @@ TEST(NodeExchange, AWrongLengthIsRefused) {
 }
 
 }  // namespace
+
+// The owners of shared nodes found from their tags alone (share_nodes, the way in for a mesh
+// whose files no rank reads whole): on the parts of a METIS split they are the parts' own
+// owners (the lowest rank whose cells touch the node), with the same index at the owner, and
+// the whole numbering counts every node once. The tags go in shuffled: a rank's own nodes are
+// numbered in the order given, and a ghost learns its owner's number.
+TEST(SharedNodes, OwnersFromTagsAreThePartitionsOwners) {
+  const Distributed d = distributed_box();
+  const MeshPart& p = d.part;
+  const int n = p.mesh.n_nodes();
+  std::vector<long long> tags(p.mesh.node_tag.begin(), p.mesh.node_tag.end());
+  const SharedNodes s = share_nodes(tags);
+  ASSERT_EQ(static_cast<int>(s.owner.size()), n);
+  EXPECT_EQ(s.owned, p.owned_nodes);
+  EXPECT_EQ(s.total, d.whole.n_nodes());
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(s.owner[i], p.node_owner[i]) << "node " << tags[i];
+    EXPECT_EQ(s.owner_index[i], p.owner_index[i]) << "node " << tags[i];
+  }
+  // Reversed: the owned nodes are numbered in the new order, and every copy agrees.
+  {
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = n - 1 - i;
+    std::vector<long long> shuffled(n);
+    for (int i = 0; i < n; ++i) shuffled[i] = tags[order[i]];
+    const SharedNodes r = share_nodes(shuffled);
+    // Root checks that each tag has one number over all ranks, and the numbers are 0 .. N-1.
+    std::string mine;
+    for (int i = 0; i < n; ++i) {
+      EXPECT_EQ(r.owner[i], s.owner[order[i]]);
+      mine += std::to_string(shuffled[i]) + " " + std::to_string(r.global[i]) + "\n";
+    }
+    const auto all = par::gather_strings(mine);
+    if (par::root()) {
+      std::map<long long, long long> number;
+      std::set<long long> used;
+      for (const std::string& text : all) {
+        std::istringstream in(text);
+        long long t = 0, g = 0;
+        while (in >> t >> g) {
+          const auto [it, fresh] = number.emplace(t, g);
+          EXPECT_EQ(it->second, g) << "tag " << t;
+          if (fresh) used.insert(g);
+        }
+      }
+      EXPECT_EQ(static_cast<long long>(number.size()), r.total);
+      EXPECT_EQ(static_cast<long long>(used.size()), r.total);
+      EXPECT_EQ(*used.begin(), 0);
+      EXPECT_EQ(*used.rbegin(), r.total - 1);
+    }
+  }
+  // A tag twice on one rank is refused on every rank.
+  std::vector<long long> twice = tags;
+  if (par::root()) twice.push_back(tags.front());
+  EXPECT_THROW(share_nodes(twice), std::invalid_argument);
+}
