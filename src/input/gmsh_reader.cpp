@@ -144,13 +144,18 @@ Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options
     throw InputError(SourceLocation{file.string(), 0, 0, ""}, "mesh file does not exist");
   std::string ext = file.extension().string();
   for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (options.piece &&
+      (ext == ".geo" || options.order == 1 || options.order == 2 || options.through_gmsh_library))
+    throw InputError(SourceLocation{file.string(), 0, 0, ""},
+                     "one file of a split mesh is read as it is: a .msh, without an order "
+                     "conversion (convert the order before Gmsh splits the mesh)");
   if (ext == ".geo")
     return to_mesh(through_gmsh(file, true, options, gmsh_log), options, file.string());
   // A .msh file is read by hencky's own reader, which refuses malformed files that would crash
   // Gmsh's. Only an order conversion needs the Gmsh library, and then only for a file that
   // reader accepted. (Gmsh's conversion renumbers the mid-edge nodes even of a file that has
   // the order asked for: it is not skipped then, so that results stay as they were.)
-  MshData data = read_msh(file);
+  MshData data = read_msh(file, options.piece);
   if (options.through_gmsh_library || options.order == 1 || options.order == 2)
     data = through_gmsh(file, false, options, gmsh_log);
   return to_mesh(data, options, file.string());

@@ -14,6 +14,9 @@ struct MeshReadOptions {
   /// Read a .msh file through the Gmsh library, as hencky did before it had its own reader
   /// (after that reader has checked the file). For comparisons between the two.
   bool through_gmsh_library = false;
+  /// One file of a mesh Gmsh split into files, read as the part it holds (msh_reader.hpp):
+  /// a .msh of the file's own order (no conversion).
+  bool piece = false;
 };
 
 /// Reads a Gmsh .msh (format 2.2, 4.0 ASCII or 4.1, ASCII or binary) with hencky's own reader

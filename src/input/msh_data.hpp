@@ -48,6 +48,9 @@ struct MshData {
   std::vector<Entity> entities;
   std::vector<Block> blocks;
   std::map<std::pair<int, int>, std::string> physical_names;  ///< (dim, tag) -> name
+  /// A partitioned file: its count of partitions, and for one file of a split mesh read as a
+  /// piece (parse_msh's `piece`), the partition it holds (0 otherwise).
+  int partitions = 0, piece = 0;
 };
 
 /// The solver's mesh from a Gmsh model, with the rules of read_gmsh (gmsh_reader.hpp). Entities

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -34,7 +35,8 @@ namespace {
 
 class Parser {
  public:
-  Parser(std::string_view text, std::string name) : s_(text), name_(std::move(name)) {}
+  Parser(std::string_view text, std::string name, bool piece)
+      : s_(text), name_(std::move(name)), piece_(piece) {}
 
   MshData parse() {
     read_format();
@@ -70,6 +72,8 @@ class Parser {
     }
     if (!nodes) throw error(s_.size(), "the file has no $Nodes section");
     if (!elements) throw error(s_.size(), "the file has no $Elements section");
+    if (piece_ && d_.piece == 0)
+      throw error(0, "not one file of a mesh split into files (gmsh -part N -part_split)");
     return std::move(d_);
   }
 
@@ -315,12 +319,17 @@ class Parser {
         if (dim == 3) volume_parts.insert(parts.begin(), parts.end());
       }
     }
-    if (!volume_parts.empty() && volume_parts.size() < n_parts)
+    d_.partitions = static_cast<int>(std::min<std::size_t>(n_parts, INT_MAX));
+    const bool split = !volume_parts.empty() && volume_parts.size() < n_parts;
+    if (split && piece_ && volume_parts.size() == 1) {
+      d_.piece = *volume_parts.begin();
+    } else if (split) {
       throw error(start, fmt::format("the file holds {} of the {} partitions of a mesh split into "
                                      "files (gmsh -part_split): hencky reads the whole mesh; save "
                                      "it in one file (no -part_split, or "
                                      "Mesh.PartitionSplitMeshFiles = 0)",
                                      volume_parts.size(), n_parts));
+    }
   }
 
   void add_node(std::size_t at, std::size_t tag) {
@@ -571,6 +580,7 @@ class Parser {
 
   std::string_view s_;
   std::string name_;
+  bool piece_ = false;  ///< read one file of a split mesh as its part
   std::size_t pos_ = 0;
   double version_ = 0;
   bool binary_ = false;
@@ -586,11 +596,11 @@ class Parser {
 
 }  // namespace
 
-MshData parse_msh(std::string_view text, const std::string& name) {
-  return Parser(text, name).parse();
+MshData parse_msh(std::string_view text, const std::string& name, bool piece) {
+  return Parser(text, name, piece).parse();
 }
 
-MshData read_msh(const std::filesystem::path& file) {
+MshData read_msh(const std::filesystem::path& file, bool piece) {
   const SourceLocation where{file.string(), 0, 0, ""};
   std::ifstream in(file, std::ios::binary);
   std::error_code ec;
@@ -599,7 +609,7 @@ MshData read_msh(const std::filesystem::path& file) {
   std::string text(size, '\0');
   if (!in.read(text.data(), static_cast<std::streamsize>(size)))
     throw InputError(where, "cannot read the mesh file");
-  return parse_msh(text, file.string());
+  return parse_msh(text, file.string(), piece);
 }
 
 }  // namespace hencky

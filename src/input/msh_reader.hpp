@@ -13,10 +13,12 @@
 
 namespace hencky {
 
-/// Parses the text of a .msh file; `name` is the file named in messages. Throws InputError.
-MshData parse_msh(std::string_view text, const std::string& name);
+/// Parses the text of a .msh file; `name` is the file named in messages. With `piece`, the file
+/// must be one file of a mesh Gmsh split into files (gmsh -part N -part_split), holding one
+/// partition, and is read as that part; without, such a file is refused. Throws InputError.
+MshData parse_msh(std::string_view text, const std::string& name, bool piece = false);
 
-/// Reads and parses a .msh file. Throws InputError naming the file.
-MshData read_msh(const std::filesystem::path& file);
+/// Reads and parses a .msh file (`piece` as parse_msh). Throws InputError naming the file.
+MshData read_msh(const std::filesystem::path& file, bool piece = false);
 
 }  // namespace hencky

@@ -1,13 +1,18 @@
 #include "parallel/mesh_part.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <cstring>
+#include <set>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 
 #include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
+#include "parallel/shared_nodes.hpp"
 
 namespace hencky {
 
@@ -257,6 +262,118 @@ MeshPart scatter_parts(const Mesh* whole, const std::vector<int>& cell_owner) {
   }
   p.rank = 0;
   return extract_part(*whole, p);
+}
+
+namespace {
+
+/// What the ranks before this one hold of a count. Collective.
+long long before_me(long long mine) {
+  std::vector<double> all(par::size(), 0.0);
+  all[par::rank()] = static_cast<double>(mine);
+  par::sum_in_place(std::span<double>(all));
+  long long sum = 0;
+  for (int r = 0; r < par::rank(); ++r) sum += static_cast<long long>(all[r]);
+  return sum;
+}
+
+/// `cells` with its nodes renumbered by `local`.
+CellSet renumbered(const CellSet& cells, const std::vector<int>& local) {
+  CellSet out;
+  std::vector<int> conn;
+  for (int c = 0; c < cells.size(); ++c) {
+    conn.clear();
+    for (int n : cells.nodes(c)) conn.push_back(local[n]);
+    out.add(cells.type[c], conn, cells.tag[c]);
+  }
+  return out;
+}
+
+}  // namespace
+
+MeshPart part_of_piece(Mesh piece) {
+  const int n = piece.n_nodes(), me = par::rank();
+  const SharedNodes s =
+      share_nodes(std::vector<long long>(piece.node_tag.begin(), piece.node_tag.end()));
+  if (par::any(s.total > INT_MAX))
+    throw std::invalid_argument("part_of_piece: more nodes than an int counts");
+  // Owned nodes first, in the piece's order (that of their whole numbers), then the ghosts by
+  // their whole numbers.
+  std::vector<int> order;
+  order.reserve(n);
+  for (int i = 0; i < n; ++i)
+    if (s.owner[i] == me) order.push_back(i);
+  const auto ghosts = order.size();
+  for (int i = 0; i < n; ++i)
+    if (s.owner[i] != me) order.push_back(i);
+  std::sort(order.begin() + static_cast<std::ptrdiff_t>(ghosts), order.end(),
+            [&](int a, int b) { return s.global[a] < s.global[b]; });
+  std::vector<int> local(n);
+  for (int k = 0; k < n; ++k) local[order[k]] = k;
+
+  MeshPart part;
+  Mesh& m = part.mesh;
+  part.owned_nodes = s.owned;
+  for (int old : order) {
+    m.x.push_back(piece.x[old]);
+    m.node_tag.push_back(piece.node_tag[old]);
+    part.global_node.push_back(static_cast<int>(s.global[old]));
+    part.node_owner.push_back(s.owner[old]);
+    part.owner_index.push_back(s.owner_index[old]);
+  }
+  m.cells = renumbered(piece.cells, local);
+  m.faces = renumbered(piece.faces, local);
+  // Every part has every region of the whole mesh (an empty one where it holds none of it): the
+  // union of the pieces' regions, by dimension and name.
+  std::string names;
+  for (const Region& r : piece.regions) names += std::to_string(r.dim) + " " + r.name + "\n";
+  std::string all;
+  if (par::root()) {
+    std::set<std::pair<int, std::string>> regions;
+    for (const std::string& text : par::gather_strings(names)) {
+      std::istringstream in(text);
+      int dim = 0;
+      std::string name;
+      while (in >> dim && in.get() == ' ' && std::getline(in, name)) regions.insert({dim, name});
+    }
+    for (const auto& [dim, name] : regions) all += std::to_string(dim) + " " + name + "\n";
+  } else {
+    par::gather_strings(names);
+  }
+  par::broadcast(all);
+  std::vector<int> new_index(piece.regions.size(), -1);
+  {
+    std::istringstream in(all);
+    int dim = 0;
+    std::string name;
+    while (in >> dim && in.get() == ' ' && std::getline(in, name)) {
+      Region& r = m.regions.emplace_back();
+      r.dim = dim;
+      r.name = name;
+      for (std::size_t k = 0; k < piece.regions.size(); ++k)
+        if (piece.regions[k].dim == dim && piece.regions[k].name == name) {
+          new_index[k] = static_cast<int>(m.regions.size()) - 1;
+          r.cells = std::move(piece.regions[k].cells);
+          r.nodes = std::move(piece.regions[k].nodes);
+        }
+      for (int& v : r.nodes) v = local[v];
+      std::sort(r.nodes.begin(), r.nodes.end());
+    }
+  }
+  m.cell_region = std::move(piece.cell_region);
+  for (int& r : m.cell_region)
+    if (r >= 0) r = new_index.at(r);
+  const long long first_cell = before_me(m.cells.size()), first_face = before_me(m.faces.size());
+  long long points = 0;
+  for (int c = 0; c < m.cells.size(); ++c) {
+    part.global_cell.push_back(static_cast<int>(first_cell + c));
+    part.global_point.push_back(points);
+    points += reference_table(m.cells.type[c]).n_points;
+  }
+  const long long first_point = before_me(points);
+  for (long long& p : part.global_point) p += first_point;
+  for (int f = 0; f < m.faces.size(); ++f)
+    part.global_face.push_back(static_cast<int>(first_face + f));
+  return part;
 }
 
 }  // namespace hencky

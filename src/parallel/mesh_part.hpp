@@ -61,4 +61,12 @@ MeshPart unpack(std::string_view bytes);
 /// plus one part.
 MeshPart scatter_parts(const Mesh* whole, const std::vector<int>& cell_owner);
 
+/// The second way in: this rank read one file of a mesh that Gmsh split into files (one file
+/// per rank, input/gmsh_reader.hpp's MeshReadOptions::piece), and no rank holds the whole. The
+/// nodes the files share are found by their tags (share_nodes): each is owned by the lowest
+/// rank that holds it and is a ghost in the others. The whole numbering of nodes, cells, faces
+/// and points is contiguous per rank in rank order (not the whole mesh's own order: there is
+/// none). Collective.
+MeshPart part_of_piece(Mesh piece);
+
 }  // namespace hencky

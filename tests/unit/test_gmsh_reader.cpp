@@ -551,6 +551,15 @@ TEST(GmshReader, PartitionsInOneFileAreTheWholeMeshAndASplitFileIsRefused) {
     EXPECT_NE(e.find("holds 1 of the 3 partitions of a mesh split into files"), std::string::npos)
         << e;
   }
+  // Read as a piece (each rank its own file, parallel/mesh_part.hpp's part_of_piece), a file
+  // of the split mesh gives its part; a whole mesh is not a piece.
+  MeshReadOptions as_piece;
+  as_piece.piece = true;
+  long long cells = 0;
+  for (int k = 1; k <= 3; ++k)
+    cells += read_gmsh(dir / ("split_" + std::to_string(k) + ".msh"), as_piece).cells.size();
+  EXPECT_EQ(cells, read_gmsh(dir / "plain0.msh", {}).cells.size());
+  EXPECT_THROW(read_gmsh(dir / "parts0.msh", as_piece), InputError);
   fs::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 // under the same METIS split, and exchanges. The sums are checked against the whole mesh: a
 // vector "assembled" from each rank's cells (1 for every cell at a node) must give every copy
 // of a node the number of cells around it in the whole mesh.
+#include <gmsh.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,6 +21,7 @@
 #include "parallel/shared_nodes.hpp"
 #include "verify_support.hpp"
 
+namespace fs = std::filesystem;
 using namespace hencky;
 using namespace hencky::verify;
 
@@ -172,4 +174,66 @@ TEST(SharedNodes, OwnersFromTagsAreThePartitionsOwners) {
   std::vector<long long> twice = tags;
   if (par::root()) twice.push_back(tags.front());
   EXPECT_THROW(share_nodes(twice), std::invalid_argument);
+}
+
+// The second way in (part_of_piece): each rank reads its own file of a mesh that Gmsh split
+// into as many files as there are ranks, and no rank reads the whole. Its part must hold what
+// the whole mesh holds there: every node owned once, every cell and region face once, every
+// region on every rank, and the ghost exchange must give each copy of a node the whole mesh's
+// count of cells around it (found here by node tag, from the unsplit file).
+TEST(SharedNodes, EachRankReadsItsFileOfASplitMesh) {
+  const int ranks = par::size();
+  if (ranks == 1) GTEST_SKIP() << "needs several ranks (ctest's mpi_node_exchange runs it on 3)";
+  par::ensure_petsc();
+  TempDir dir("split_mesh");
+  write_file(dir / "box.geo", box_geo(2, 1, 1, 0.25));
+  gmsh::initialize(0, nullptr, false);
+  gmsh::option::setNumber("General.Terminal", 0);
+  gmsh::open((dir / "box.geo").string());
+  gmsh::model::mesh::generate(3);
+  gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
+  gmsh::model::mesh::setOrder(2);
+  gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+  gmsh::option::setNumber("Mesh.Binary", 1);
+  gmsh::write((dir / "whole.msh").string());
+  gmsh::model::mesh::partition(ranks);
+  gmsh::option::setNumber("Mesh.PartitionSplitMeshFiles", 1);
+  gmsh::write((dir / "split.msh").string());
+  gmsh::finalize();
+
+  const Mesh whole = read_gmsh(dir / "whole.msh", {});
+  MeshReadOptions piece;
+  piece.piece = true;
+  const fs::path mine = dir / ("split_" + std::to_string(par::rank() + 1) + ".msh");
+  const MeshPart p = part_of_piece(read_gmsh(mine, piece));
+  const Mesh& m = p.mesh;
+  EXPECT_EQ(par::sum(static_cast<long long>(p.owned_nodes)), whole.n_nodes());
+  EXPECT_EQ(par::sum(static_cast<long long>(m.cells.size())), whole.cells.size());
+  EXPECT_EQ(par::max(p.global_cell.empty() ? -1 : p.global_cell.back()), whole.cells.size() - 1);
+  // The regions: the whole mesh's on every rank, their cells and faces each on one rank.
+  ASSERT_EQ(m.regions.size(), whole.regions.size());
+  for (const Region& w : whole.regions) {
+    const Region* r = m.find_region(w.name);
+    ASSERT_NE(r, nullptr) << w.name;
+    EXPECT_EQ(r->dim, w.dim);
+    EXPECT_EQ(par::sum(static_cast<long long>(r->cells.size())),
+              static_cast<long long>(w.cells.size()))
+        << w.name;
+  }
+  for (int c = 0; c < m.cells.size(); ++c) ASSERT_GE(m.cell_region[c], 0);
+  // Cells at each node, summed over the copies, against the whole mesh's by tag.
+  std::map<long, double> around;
+  for (int c = 0; c < whole.cells.size(); ++c)
+    for (int n : whole.cells.nodes(c)) around[whole.node_tag[n]] += 1;
+  const NodeExchange exchange(p);
+  std::vector<double> count(m.n_nodes(), 0.0);
+  for (int c = 0; c < m.cells.size(); ++c)
+    for (int n : m.cells.nodes(c)) count[n] += 1;
+  exchange.sum(count, 1);
+  int ghosts = 0;
+  for (int n = 0; n < m.n_nodes(); ++n) {
+    EXPECT_EQ(count[n], around.at(m.node_tag[n])) << "node " << m.node_tag[n];
+    ghosts += n >= p.owned_nodes;
+  }
+  EXPECT_GT(par::sum(static_cast<long long>(ghosts)), 0);
 }
