@@ -501,6 +501,8 @@ FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
 std::string FieldsWriter::write(const StepReport& report, const State& state,
                                 const RecoveredFields& fields) {
   const std::string stem = fmt::format("step_{:04d}", report.step);
+  heat_flux_ =
+      model_.has_heat() ? nodal_heat_flux(model_, state.nodal_temperature) : std::vector<double>();
   if (!pieces_) {
     write_file(dir_ / (stem + ".vtu"), state, fields);
     return stem + ".vtu";
@@ -603,8 +605,6 @@ FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State&
   const auto or_zero = [&](const std::vector<double>& v) {
     return v.empty() ? zero1 : at_nodes(v, 1);
   };
-  const std::vector<double> heat_flux =
-      model_.has_heat() ? nodal_heat_flux(model_, state.nodal_temperature) : std::vector<double>();
   std::vector<VtuField> point_fields = {
       {"displacement", 3, at_nodes(state.u, 3)},
       {"stress", 6, stress},
@@ -622,7 +622,7 @@ FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State&
       {"equivalent_elastoplastic_strain", 1, or_zero(fields.nodal_eps_ep)},
   };
   if (model_.has_heat())
-    point_fields.push_back({"heat_flux", 3, at_nodes(heat_flux, 3)});  // issue 18
+    point_fields.push_back({"heat_flux", 3, at_nodes(heat_flux_, 3)});  // issue 18
   std::vector<VtuField> cell_fields = {
       {"stress", 6, cell_stress},
       {"von_mises", 1, at_cells(fields.cell_von_mises)},

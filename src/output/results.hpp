@@ -117,6 +117,9 @@ class FieldsWriter {
   std::vector<long> node_tag_, cell_tag_;
   std::vector<int> ranks_with_cells_;  ///< the ranks that write a piece (the partition's)
   std::vector<double> zeros_;
+  /// The nodal heat flux of the step being written: found in write(), on every rank (it sums
+  /// over the ranks), before the ranks with cells write their pieces.
+  std::vector<double> heat_flux_;
 };
 
 /// The observer of every rank but root on several ranks: its piece of the fields files in

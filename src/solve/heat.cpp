@@ -800,10 +800,13 @@ void HeatSolver::resume(HeatMemory mem) {
 
 std::vector<double> nodal_heat_flux(const Model& model, const std::vector<double>& T) {
   const Mesh& mesh = model.mesh();
-  std::vector<double> q(3 * static_cast<std::size_t>(mesh.n_nodes()), 0.0);
-  std::vector<int> count(mesh.n_nodes(), 0);
+  // Per node the count of cells at it, then the sum of their fluxes there: each rank goes over
+  // the cells whose points it holds, and the layout completes values and counts alike (as the
+  // recovery of the stresses does).
+  std::vector<double> sums(4 * static_cast<std::size_t>(mesh.n_nodes()), 0.0);
   double dN[3 * max_cell_nodes];
   for (int e = 0; e < mesh.cells.size(); ++e) {
+    if (!model.holds_points(e)) continue;
     const auto nodes = mesh.cells.nodes(e);
     const int n = static_cast<int>(nodes.size());
     const CellType type = mesh.cells.type[e];
@@ -820,27 +823,18 @@ std::vector<double> nodal_heat_flux(const Model& model, const std::vector<double
       for (int b = 0; b < n; ++b)
         g += Jinv_t * Vec3(dN[3 * b], dN[3 * b + 1], dN[3 * b + 2]) * T[nodes[b]];
       const Vec3 qa = -mat.conductivity(T[nodes[a]]) * g;
-      for (int d = 0; d < 3; ++d) q[3 * nodes[a] + d] += qa[d];
-      ++count[nodes[a]];
+      double* v = &sums[4 * static_cast<std::size_t>(nodes[a])];
+      v[0] += 1;
+      for (int d = 0; d < 3; ++d) v[1 + d] += qa[d];
     }
   }
-  // A distributed mesh's copies of a node each hold their cells' share: summed, with the
-  // counts, over the copies. (A replicated mesh's ranks each went over every cell.)
-  if (model.layout().kind() == NodalLayout::Kind::distributed) {
-    std::vector<double> sums(4 * static_cast<std::size_t>(mesh.n_nodes()));
-    for (int m = 0; m < mesh.n_nodes(); ++m) {
-      for (int d = 0; d < 3; ++d) sums[4 * m + d] = q[3 * m + d];
-      sums[4 * m + 3] = count[m];
-    }
-    model.layout().sum(sums, 4);
-    for (int m = 0; m < mesh.n_nodes(); ++m) {
-      for (int d = 0; d < 3; ++d) q[3 * m + d] = sums[4 * m + d];
-      count[m] = static_cast<int>(std::lround(sums[4 * m + 3]));
-    }
+  model.layout().sum(sums, 4);
+  std::vector<double> q(3 * static_cast<std::size_t>(mesh.n_nodes()), 0.0);
+  for (int m = 0; m < mesh.n_nodes(); ++m) {
+    const double* v = &sums[4 * static_cast<std::size_t>(m)];
+    if (v[0] > 0)
+      for (int d = 0; d < 3; ++d) q[3 * m + d] = v[1 + d] / v[0];
   }
-  for (int m = 0; m < mesh.n_nodes(); ++m)
-    if (count[m] > 0)
-      for (int d = 0; d < 3; ++d) q[3 * m + d] /= count[m];
   return q;
 }
 

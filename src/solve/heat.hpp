@@ -154,7 +154,7 @@ class HeatSolver {
 };
 
 /// The heat flux q = −k(T) ∇T at the nodes, 3 per node: each cell's at its nodes, averaged
-/// over the cells around a node.
+/// over the cells around a node (over all ranks: collective on several ranks).
 std::vector<double> nodal_heat_flux(const Model& model, const std::vector<double>& T);
 
 }  // namespace hencky
