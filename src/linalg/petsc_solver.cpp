@@ -146,13 +146,9 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
     // A part: its own nodes are its first ones; a ghost's rows are its owner's numbering of
     // it, after the nodes of the ranks before that owner.
     const MeshPart& p = part_->part;
-    std::vector<double> owned_by(parts, 0.0);
-    owned_by[me] = p.owned_nodes;
-    par::sum_in_place(std::span<double>(owned_by));
-    std::vector<PetscInt> before(parts + 1, 0);
-    for (int r = 0; r < parts; ++r) before[r + 1] = before[r] + static_cast<PetscInt>(owned_by[r]);
+    const std::vector<long long> before = par::rank_offsets(p.owned_nodes);
     for (int n = 0; n < n_nodes; ++n)
-      s.first_row[n] = k * (before[p.node_owner[n]] + p.owner_index[n]);
+      s.first_row[n] = k * static_cast<PetscInt>(before[p.node_owner[n]] + p.owner_index[n]);
     for (int n = 0; n < p.owned_nodes; ++n) s.owned.push_back(n);
   } else {
     std::vector<PetscInt> count(parts + 1, 0);

@@ -266,16 +266,6 @@ MeshPart scatter_parts(const Mesh* whole, const std::vector<int>& cell_owner) {
 
 namespace {
 
-/// What the ranks before this one hold of a count. Collective.
-long long before_me(long long mine) {
-  std::vector<double> all(par::size(), 0.0);
-  all[par::rank()] = static_cast<double>(mine);
-  par::sum_in_place(std::span<double>(all));
-  long long sum = 0;
-  for (int r = 0; r < par::rank(); ++r) sum += static_cast<long long>(all[r]);
-  return sum;
-}
-
 /// `cells` with its nodes renumbered by `local`.
 CellSet renumbered(const CellSet& cells, const std::vector<int>& local) {
   CellSet out;
@@ -362,14 +352,15 @@ MeshPart part_of_piece(Mesh piece) {
   m.cell_region = std::move(piece.cell_region);
   for (int& r : m.cell_region)
     if (r >= 0) r = new_index.at(r);
-  const long long first_cell = before_me(m.cells.size()), first_face = before_me(m.faces.size());
+  const long long first_cell = par::rank_offsets(m.cells.size())[me],
+                  first_face = par::rank_offsets(m.faces.size())[me];
   long long points = 0;
   for (int c = 0; c < m.cells.size(); ++c) {
     part.global_cell.push_back(static_cast<int>(first_cell + c));
     part.global_point.push_back(points);
     points += reference_table(m.cells.type[c]).n_points;
   }
-  const long long first_point = before_me(points);
+  const long long first_point = par::rank_offsets(points)[me];
   for (long long& p : part.global_point) p += first_point;
   for (int f = 0; f < m.faces.size(); ++f)
     part.global_face.push_back(static_cast<int>(first_face + f));

@@ -153,6 +153,14 @@ std::string receive_bytes(int from) {
   return bytes;
 }
 
+std::vector<long long> rank_offsets(long long mine) {
+  const int p = size();
+  std::vector<long long> all(p, mine), out(p + 1, 0);
+  if (p > 1) MPI_Allgather(&mine, 1, MPI_LONG_LONG, all.data(), 1, MPI_LONG_LONG, comm());
+  for (int r = 0; r < p; ++r) out[r + 1] = out[r] + all[r];
+  return out;
+}
+
 std::vector<std::string> exchange_bytes(const std::vector<std::string>& to_each) {
   const int p = size();
   if (static_cast<int>(to_each.size()) != p)

@@ -55,6 +55,10 @@ long long min(long long x);
 int min(int x);
 int max(int x);
 bool any(bool x);
+/// Where each rank's share of a count starts when the ranks' shares follow each other in rank
+/// order: ranks + 1 entries, the first 0, entry r the sum of `mine` over the ranks before r, the
+/// last the total. On every rank. Collective.
+std::vector<long long> rank_offsets(long long mine);
 /// Root's values to every rank.
 void broadcast(std::span<int> v);
 void broadcast(std::span<double> v);

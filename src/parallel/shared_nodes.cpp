@@ -96,11 +96,7 @@ SharedNodes share_nodes(std::span<const long long> tags) {
   }
 
   // 3. The whole numbering: the owners' counts before each rank, then the index.
-  std::vector<double> owned(ranks, 0.0);
-  owned[me] = out.owned;
-  par::sum_in_place(std::span<double>(owned));
-  std::vector<long long> first(ranks + 1, 0);
-  for (int r = 0; r < ranks; ++r) first[r + 1] = first[r] + static_cast<long long>(owned[r]);
+  const std::vector<long long> first = par::rank_offsets(out.owned);
   out.total = first[ranks];
   out.global.resize(n);
   for (std::size_t i = 0; i < n; ++i) out.global[i] = first[out.owner[i]] + out.owner_index[i];
