@@ -25,6 +25,7 @@
 #include "core/log.hpp"
 #include "hencky/version.hpp"
 #include "input/case_reader.hpp"
+#include "input/gmsh_reader.hpp"
 #include "input/load_case.hpp"
 #include "output/checkpoint.hpp"
 #include "output/results.hpp"
@@ -266,6 +267,58 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
   return 0;
 }
 
+/// The second distributed way (docs/parallel.md, "A mesh split into files"): mesh.split on
+/// as many ranks as files. Each rank reads its own file and makes it its part (part_of_piece);
+/// no rank reads or holds the whole mesh. The checks a whole model makes are made together
+/// (Model::join), and the log's description and a checkpoint's record of the whole mesh are
+/// summed and gathered. Returns 0, or the exit status when a rank failed (reported).
+/// Collective.
+int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLocation& dir_where,
+               Log& log, Loaded& out) {
+  LoadedCase& l = out.l;
+  l.spec = std::move(spec);
+  const auto t_mesh = Clock::now();
+  Mesh piece;
+  if (int code = together([&] {
+        MeshReadOptions options;
+        options.piece = true;
+        options.piece_number = par::rank() + 1;
+        options.pieces = l.spec->mesh.pieces;
+        options.scale = l.spec->mesh.scale;
+        piece = read_gmsh(piece_file(l.spec->mesh, par::rank()), options);
+      }))
+    return code;
+  MeshPart part = part_of_piece(std::move(piece));
+  l.mesh_seconds = since(t_mesh);
+  const auto t_setup = Clock::now();
+  if (int code =
+          together([&] { l.model = std::make_unique<Model>(*l.spec, std::move(part), log); }))
+    return code;
+  if (int code = together([&] { l.model->join(); })) return code;
+  l.setup_seconds = since(t_setup);
+  const Model& m = *l.model;
+  std::vector<double> of_type(static_cast<int>(CellType::quad8) + 1, 0.0);  // exact counts
+  for (CellType t : m.mesh().cells.type) ++of_type[static_cast<int>(t)];
+  par::sum_in_place(std::span<double>(of_type));
+  std::map<std::string, long long> by_type;
+  for (std::size_t t = 0; t < of_type.size(); ++t)
+    if (of_type[t] > 0)
+      by_type[std::string(cell_name(static_cast<CellType>(t)))] = std::llround(of_type[t]);
+  out.mesh_line =
+      fmt::format("{}; {} unknowns", describe_counts(m.global_nodes(), m.global_cells(), by_type),
+                  m.global_free());
+  out.whole_mesh = broadcast_mesh_record(checkpoint_mesh_of_parts(m));
+  const Partition& p = m.partition();
+  out.parts_line = fmt::format(
+      "distributed mesh: {} ranks, each read its file of the split mesh; {} .. {} elements and "
+      "{} .. {} nodes per rank (owned; {} .. {} with the ghosts)",
+      par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
+      par::max(p.owned_nodes), par::min(m.mesh().n_nodes()), par::max(m.mesh().n_nodes()));
+  return together([&] {
+    if (par::root()) check_output_space(m, dir, dir_where, log);
+  });
+}
+
 /// One rank, or the whole mesh on every rank (HENCKY_REPLICATED=1): each reads the case's mesh
 /// and binds the whole model, and the ranks check that they read the same. Collective.
 int load_replicated(std::unique_ptr<Case> spec, const fs::path& dir,
@@ -329,8 +382,20 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     return 1;
   }
   Loaded loaded;
-  if (int code = distribute ? load_distributed(std::move(spec), dir, dir_where, log, loaded)
-                            : load_replicated(std::move(spec), dir, dir_where, log, loaded))
+  // A split mesh on as many ranks as files: each rank reads its own. Contact binds on the
+  // whole model (Model::share_contact): root reads the files then, as on other rank counts.
+  const bool own_files =
+      distribute && spec->mesh.split && spec->mesh.pieces == par::size() && spec->contact.empty();
+  std::string split_line;  // how a split mesh was read, where not each rank its own file
+  if (distribute && spec->mesh.split && !own_files)
+    split_line = fmt::format(
+        "split mesh: root read its {} files and sent each rank its part ({})", spec->mesh.pieces,
+        spec->mesh.pieces != par::size()
+            ? fmt::format("{} files on {} ranks", spec->mesh.pieces, par::size())
+            : std::string("contact binds on the whole mesh"));
+  if (int code = own_files    ? load_split(std::move(spec), dir, dir_where, log, loaded)
+                 : distribute ? load_distributed(std::move(spec), dir, dir_where, log, loaded)
+                              : load_replicated(std::move(spec), dir, dir_where, log, loaded))
     return code;
   LoadedCase& l = loaded.l;
   const std::string& mesh_line = loaded.mesh_line;
@@ -341,6 +406,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   const Case& c = *l.spec;
   log.info("hencky {}: {}", HENCKY_VERSION, c.title);
   log.info("mesh: {}", mesh_line);
+  if (!split_line.empty()) log.info("{}", split_line);
   if (!parts_line.empty()) log.info("{}", parts_line);
   for (const auto& line : contact_lines) log.info("{}", line);
 

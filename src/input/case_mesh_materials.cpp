@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> mesh_keys = {"file", "order", "scale"};
+const std::vector<std::string> mesh_keys = {"file", "order", "scale", "split"};
 const std::vector<std::string> material_keys = {"name",         "regions", "E",
                                                 "nu",           "alpha",   "plasticity",
                                                 "conductivity", "density", "specific_heat"};
@@ -45,6 +45,27 @@ MeshSpec read_mesh(const Reader& r, const Val& v) {
   if (ext != ".msh" && ext != ".geo")
     r.fail(file, "expected a Gmsh mesh (.msh) or geometry (.geo) file, found '" + name + "'");
   std::error_code ec;
+  if (auto s = m.get("split"); s && r.choice(*s, {"true", "false"}, "split") == "true") {
+    // The files Gmsh writes for `gmsh ... -part N -part_split -o cyl.msh`: cyl_1.msh ..
+    // cyl_N.msh, one per rank (docs/parallel.md).
+    if (ext != ".msh")
+      r.fail(*s,
+             "a split mesh is a set of .msh files, named after file: (e.g. file: cyl.msh "
+             "for cyl_1.msh, cyl_2.msh, ...)");
+    if (m.has("order"))
+      r.fail(*m.get("order"),
+             "the files of a split mesh are read as they are: convert the "
+             "order before Gmsh splits the mesh (gmsh -order 2 ...)");
+    mesh.split = true;
+    while (fs::is_regular_file(piece_file(mesh, mesh.pieces), ec)) ++mesh.pieces;
+    if (mesh.pieces == 0)
+      r.fail(*s, "split mesh: " + piece_file(mesh, 0).string() +
+                     " not found (the files of `gmsh -part N -part_split -o " + name +
+                     "` are named " + piece_file(mesh, 0).filename().string() + " .. " +
+                     mesh.file.stem().string() + "_N.msh, beside " + name + ")");
+    if (auto sc = m.get("scale")) mesh.scale = r.positive(*sc);
+    return mesh;
+  }
   if (!fs::exists(mesh.file, ec))
     r.fail(file, "mesh file not found: " + mesh.file.string() +
                      " (relative paths are taken from the case file's folder)");

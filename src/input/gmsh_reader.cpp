@@ -1,10 +1,15 @@
 #include "input/gmsh_reader.hpp"
 
+#include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cctype>
 #include <functional>
 #include <mutex>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "core/error.hpp"
 #include "input/gmsh_library.hpp"
@@ -156,9 +161,85 @@ Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options
   // reader accepted. (Gmsh's conversion renumbers the mid-edge nodes even of a file that has
   // the order asked for: it is not skipped then, so that results stay as they were.)
   MshData data = read_msh(file, options.piece);
+  if (options.piece && options.pieces > 0 &&
+      (data.piece != options.piece_number || data.partitions != options.pieces))
+    throw InputError(SourceLocation{file.string(), 0, 0, ""},
+                     fmt::format("the file holds partition {} of {}, but as file {} of the {} "
+                                 "files of the split mesh it should hold partition {} of {}: the "
+                                 "files are not one split of one mesh (split it again, "
+                                 "gmsh -part N -part_split, and remove the files of other splits)",
+                                 data.piece, data.partitions, options.piece_number, options.pieces,
+                                 options.piece_number, options.pieces));
   if (options.through_gmsh_library || options.order == 1 || options.order == 2)
     data = through_gmsh(file, false, options, gmsh_log);
   return to_mesh(data, options, file.string());
+}
+
+Mesh read_pieces(const std::vector<std::filesystem::path>& files, const MeshReadOptions& options) {
+  MeshReadOptions one = options;
+  one.piece = true;
+  one.pieces = static_cast<int>(files.size());
+  std::vector<Mesh> pieces;
+  for (const auto& f : files) {
+    ++one.piece_number;
+    pieces.push_back(read_gmsh(f, one));
+  }
+  // Each node's index: by the first piece that holds it, then by tag (a piece's nodes are in
+  // the order of their tags already).
+  std::unordered_map<long, int> index_of_tag;
+  Mesh whole;
+  for (const Mesh& p : pieces)
+    for (int n = 0; n < p.n_nodes(); ++n)
+      if (index_of_tag.emplace(p.node_tag[n], whole.n_nodes()).second) {
+        whole.x.push_back(p.x[n]);
+        whole.node_tag.push_back(p.node_tag[n]);
+      }
+  std::set<std::pair<int, std::string>> names;
+  for (const Mesh& p : pieces)
+    for (const Region& r : p.regions) names.insert({r.dim, r.name});
+  for (const auto& [dim, name] : names) {
+    Region& r = whole.regions.emplace_back();
+    r.dim = dim;
+    r.name = name;
+  }
+  auto region_index = [&](const Region& r) {
+    return static_cast<int>(std::distance(names.begin(), names.find({r.dim, r.name})));
+  };
+  std::unordered_set<long> cell_tags, face_tags;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const Mesh& p = pieces[k];
+    const int first_cell = whole.cells.size(), first_face = whole.faces.size();
+    auto add = [&](const CellSet& from, CellSet& to, std::unordered_set<long>& tags,
+                   const char* what) {
+      std::vector<int> nodes;
+      for (int c = 0; c < from.size(); ++c) {
+        if (!tags.insert(from.tag[c]).second)
+          throw InputError(SourceLocation{files[k].string(), 0, 0, ""},
+                           fmt::format("{} {} is in this file and in an earlier one of the split "
+                                       "mesh: the files are not the pieces of one mesh",
+                                       what, from.tag[c]));
+        nodes.clear();
+        for (int n : from.nodes(c)) nodes.push_back(index_of_tag.at(p.node_tag[n]));
+        to.add(from.type[c], nodes, from.tag[c]);
+      }
+    };
+    add(p.cells, whole.cells, cell_tags, "element");
+    add(p.faces, whole.faces, face_tags, "face element");
+    for (int c = 0; c < p.cells.size(); ++c)
+      whole.cell_region.push_back(p.cell_region[c] < 0 ? -1
+                                                       : region_index(p.regions[p.cell_region[c]]));
+    for (const Region& r : p.regions) {
+      Region& to = whole.regions[region_index(r)];
+      const int first = r.dim == 3 ? first_cell : first_face;
+      for (int c : r.cells) to.cells.push_back(first + c);
+      for (int n : r.nodes) to.nodes.push_back(index_of_tag.at(p.node_tag[n]));
+    }
+  }
+  for (Region& r : whole.regions) {
+    std::sort(r.nodes.begin(), r.nodes.end());
+    r.nodes.erase(std::unique(r.nodes.begin(), r.nodes.end()), r.nodes.end());
+  }
+  return whole;
 }
 
 }  // namespace hencky

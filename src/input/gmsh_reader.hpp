@@ -17,6 +17,9 @@ struct MeshReadOptions {
   /// One file of a mesh Gmsh split into files, read as the part it holds (msh_reader.hpp):
   /// a .msh of the file's own order (no conversion).
   bool piece = false;
+  /// With `piece`, when > 0: the file is file `piece_number` (from 1) of `pieces` (the names
+  /// Gmsh gives them, mesh_1.msh ..), and must say it holds that partition of that many.
+  int piece_number = 0, pieces = 0;
 };
 
 /// Reads a Gmsh .msh (format 2.2, 4.0 ASCII or 4.1, ASCII or binary) with hencky's own reader
@@ -28,5 +31,13 @@ struct MeshReadOptions {
 /// appended to `gmsh_log` when given. Throws InputError naming the file on any failure.
 Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options,
                std::vector<std::string>* gmsh_log = nullptr);
+
+/// The whole mesh of the files Gmsh split a mesh into (`-part N -part_split`), each read as a
+/// piece (MeshReadOptions::piece; `options.scale` applies). Its order is the one the ranks'
+/// parts give it when each rank reads one file (parallel/mesh_part.hpp, part_of_piece), so that
+/// checkpoints pass between the two: the nodes by the first file that holds them, then by tag;
+/// the cells and faces file by file, each in its file's order; the regions by dimension and
+/// name. A face or cell in two files is an error.
+Mesh read_pieces(const std::vector<std::filesystem::path>& files, const MeshReadOptions& options);
 
 }  // namespace hencky

@@ -7,6 +7,12 @@
 
 namespace hencky {
 
+std::vector<std::filesystem::path> piece_files(const MeshSpec& mesh) {
+  std::vector<std::filesystem::path> files;
+  for (int k = 0; k < mesh.pieces; ++k) files.push_back(piece_file(mesh, k));
+  return files;
+}
+
 LoadedCase load_case(const std::filesystem::path& case_file, Log& log) {
   return load_case(std::make_unique<Case>(read_case(case_file)), log);
 }
@@ -20,7 +26,9 @@ LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
   opt.order = l.spec->mesh.order;
   opt.scale = l.spec->mesh.scale;
   std::vector<std::string> gmsh_log;
-  Mesh mesh = read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
+  // A split mesh read whole (one rank, or ranks other than its files): its files together.
+  Mesh mesh = l.spec->mesh.split ? read_pieces(piece_files(l.spec->mesh), opt)
+                                 : read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
   for (const auto& line : gmsh_log)
     if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
   l.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -20,6 +20,9 @@ struct LoadedCase {
   double mesh_seconds = 0, setup_seconds = 0;
 };
 
+/// The files of a split mesh (mesh.split), in order.
+std::vector<std::filesystem::path> piece_files(const MeshSpec& mesh);
+
 /// Reads the case, reads (or meshes) its mesh and binds them. Throws InputError.
 LoadedCase load_case(const std::filesystem::path& case_file, Log& log);
 /// The same for a case already read: reads (or meshes) its mesh and binds them.

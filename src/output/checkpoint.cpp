@@ -444,6 +444,63 @@ CheckpointMesh checkpoint_mesh(const Mesh& mesh) {
   return {mesh_fingerprint(mesh), r.names, r.prints, mesh.n_nodes(), mesh.cells.size()};
 }
 
+std::optional<CheckpointMesh> checkpoint_mesh_of_parts(const Model& model) {
+  const MeshPart& part = *model.part();
+  const Mesh& m = model.mesh();
+  // A part's own nodes are its first, in the whole order; the ranks' runs follow each other
+  // (the numbering part_of_piece gives), and so do their cells and faces.
+  std::vector<double> x, cells, regions;
+  for (int n = 0; n < part.owned_nodes; ++n)
+    x.insert(x.end(), {m.x[n].x(), m.x[n].y(), m.x[n].z()});
+  for (int c = 0; c < m.cells.size(); ++c) {
+    const auto nodes = m.cells.nodes(c);
+    cells.push_back(static_cast<double>(m.cells.type[c]));
+    cells.push_back(static_cast<double>(nodes.size()));
+    for (int n : nodes) cells.push_back(part.global_node[n]);
+  }
+  for (const Region& r : m.regions) {
+    const std::vector<int>& whole_index = r.dim == 3 ? part.global_cell : part.global_face;
+    regions.push_back(static_cast<double>(r.cells.size()));
+    for (int c : r.cells) regions.push_back(whole_index[c]);
+    regions.push_back(static_cast<double>(r.nodes.size()));
+    for (int n : r.nodes) regions.push_back(part.global_node[n]);
+  }
+  const auto all_x = gather_doubles(x), all_cells = gather_doubles(cells),
+             all_regions = gather_doubles(regions);
+  if (!par::root()) return std::nullopt;
+  Mesh whole;
+  for (const auto& v : all_x)
+    for (std::size_t i = 0; i < v.size(); i += 3) whole.x.emplace_back(v[i], v[i + 1], v[i + 2]);
+  std::vector<int> nodes;
+  for (const auto& v : all_cells)
+    for (std::size_t i = 0; i < v.size();) {
+      const auto type = static_cast<CellType>(v[i]);
+      nodes.assign(
+          v.begin() + static_cast<std::ptrdiff_t>(i + 2),
+          v.begin() + static_cast<std::ptrdiff_t>(i + 2 + static_cast<std::size_t>(v[i + 1])));
+      whole.cells.add(type, nodes, 0);
+      i += 2 + nodes.size();
+    }
+  whole.regions.resize(m.regions.size());
+  for (const auto& v : all_regions) {
+    std::size_t i = 0;
+    for (std::size_t k = 0; k < m.regions.size(); ++k) {
+      Region& r = whole.regions[k];
+      r.dim = m.regions[k].dim;
+      r.name = m.regions[k].name;
+      for (auto n = static_cast<std::size_t>(v[i++]); n > 0; --n)
+        r.cells.push_back(static_cast<int>(v[i++]));
+      for (auto n = static_cast<std::size_t>(v[i++]); n > 0; --n)
+        r.nodes.push_back(static_cast<int>(v[i++]));
+    }
+  }
+  for (Region& r : whole.regions) {
+    std::sort(r.nodes.begin(), r.nodes.end());
+    r.nodes.erase(std::unique(r.nodes.begin(), r.nodes.end()), r.nodes.end());
+  }
+  return checkpoint_mesh(whole);
+}
+
 CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory& run,
                              const CheckpointMesh* whole) {
   CheckpointFile f;

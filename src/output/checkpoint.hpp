@@ -33,6 +33,11 @@ struct CheckpointMesh {
   long long nodes = 0, cells = 0;
 };
 CheckpointMesh checkpoint_mesh(const Mesh& mesh);
+/// The same record where no rank holds the whole mesh (each read its file of a split mesh):
+/// root gathers the parts' nodes, cells and regions in the whole order and records that mesh
+/// (transient, about 40 bytes per node on root). The record on root, nullopt elsewhere.
+/// Collective.
+std::optional<CheckpointMesh> checkpoint_mesh_of_parts(const Model& model);
 
 /// The file's record of `run`; point data gathered from every rank (collective; the result is
 /// complete on root only). On a distributed mesh (Model::part) the nodal data is gathered too,

@@ -281,12 +281,14 @@ void check_output_space(const Model& model, const fs::path& dir, const SourceLoc
   const fs::path parent = dir.parent_path().empty() ? fs::path(".") : dir.parent_path();
   if (::statvfs(parent.c_str(), &fs_info) != 0) return;  // unknown: nothing to say
   const double free = static_cast<double>(fs_info.f_bavail) * fs_info.f_frsize;
-  const Mesh& mesh = model.mesh();
-  const double nodes = mesh.n_nodes(), cells = mesh.cells.size(), points = model.total_points();
+  // The whole model's counts (a distributed one's are summed over its parts).
+  const double nodes = static_cast<double>(model.global_nodes()),
+               cells = static_cast<double>(model.global_cells()), points = model.total_points();
   // A fields file: 44 numbers per node (coordinates and the point fields), 9 per cell and the
   // connectivity; a checkpoint: 36 numbers per point of a plastic model (20 of an elastic one)
   // and 6 per unknown. Both within 10 % on the examples.
-  const double vtu = 8 * (44 * nodes + 11 * cells + static_cast<double>(mesh.cells.conn.size()));
+  const double vtu =
+      8 * (44 * nodes + 11 * cells + static_cast<double>(model.global_connectivity()));
   const double checkpoint = 8 * ((model.has_plasticity() ? 36 : 20) * points + 6 * 3 * nodes);
   const auto& out = model.spec().output;
   const double steps = static_cast<double>(model.spec().solver.times.size());

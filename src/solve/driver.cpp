@@ -15,9 +15,14 @@
 namespace hencky {
 
 std::string describe_mesh(const Mesh& mesh) {
-  std::map<std::string, int> by_type;
+  std::map<std::string, long long> by_type;
   for (auto t : mesh.cells.type) ++by_type[std::string(cell_name(t))];
-  std::string s = fmt::format("{} nodes, {} elements (", mesh.n_nodes(), mesh.cells.size());
+  return describe_counts(mesh.n_nodes(), mesh.cells.size(), by_type);
+}
+
+std::string describe_counts(long long nodes, long long cells,
+                            const std::map<std::string, long long>& by_type) {
+  std::string s = fmt::format("{} nodes, {} elements (", nodes, cells);
   bool first = true;
   for (auto& [name, n] : by_type) {
     s += fmt::format("{}{} {}", first ? "" : ", ", n, name);

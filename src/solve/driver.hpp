@@ -1,6 +1,7 @@
 #pragma once
 // What `hencky run` and `hencky check` share once a model is loaded (input/load_case.hpp):
 // its description for the log, and the linear solver of a run.
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +14,9 @@ namespace hencky {
 
 /// "1865 nodes, 320 elements (320 20-node hexahedron)"
 std::string describe_mesh(const Mesh& mesh);
+/// The same from counts: nodes, cells, and cells by type name.
+std::string describe_counts(long long nodes, long long cells,
+                            const std::map<std::string, long long>& by_type);
 /// One line per contact: its surface, nodes, those touching at t = 0 and the range of κ.
 std::vector<std::string> describe_contact(const Model& model);
 

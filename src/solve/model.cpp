@@ -61,6 +61,7 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
   global_[0] = mesh_.n_nodes();
   global_[1] = mesh_.cells.size();
   global_[2] = dofs_.n_free;
+  global_[3] = static_cast<long long>(mesh_.cells.conn.size());
 }
 
 Model::Model(const Case& c, MeshPart part, Log& log) : case_(&c), mesh_(std::move(part.mesh)) {
@@ -91,6 +92,7 @@ void Model::join() {
   global_[0] = par::sum(static_cast<long long>(part_->owned_nodes));
   global_[1] = par::sum(static_cast<long long>(mesh_.cells.size()));
   global_[2] = par::sum(static_cast<long long>(layout_.owned_free(dofs_.eq, 3)));
+  global_[3] = par::sum(static_cast<long long>(mesh_.cells.conn.size()));
   // Where each cell's points start in the whole mesh's order: the reading rank counted them
   // (MeshPart::global_point), with the points this model holds.
   whole_point_offset_ = part_->global_point;
@@ -101,6 +103,7 @@ void Model::join() {
     end = std::max(end, whole_point_offset_[e] + point_offset_[e + 1] - point_offset_[e]);
   if (par::max(end) != total_points_)
     throw std::logic_error("Model::join: the part's point offsets are not the model's points");
+  check_whole();
   // A total force spreads over its region's whole area.
   std::vector<double> area(case_->boundary.size(), 0.0);
   for (const auto& [b, a] : part_areas_) area[b] += a;
@@ -108,7 +111,9 @@ void Model::join() {
   for (FaceLoad& load : face_loads_)
     if (case_->boundary[load.boundary].kind == BoundaryKind::force) {
       if (!(area[load.boundary] > 0))
-        throw std::logic_error("Model::join: a loaded region of zero area passed the checks");
+        throw InputError(
+            case_->boundary[load.boundary].where,
+            fmt::format("region '{}' has zero area", case_->boundary[load.boundary].region));
       load.scale = 1.0 / area[load.boundary];
     }
   // A probe belongs to the lowest rank that found it in its cells (a point on a face between
@@ -116,11 +121,49 @@ void Model::join() {
   for (Probe& p : probes_) {
     const int owner = par::min(p.cell >= 0 ? partition_.rank : INT_MAX);
     if (owner == INT_MAX)
-      throw std::logic_error("Model::join: a probe outside every part passed the checks");
+      throw InputError(
+          p.spec->where,
+          fmt::format("probe '{}' at ({:g}, {:g}, {:g}) is outside the mesh", p.spec->name,
+                      p.spec->point.x(), p.spec->point.y(), p.spec->point.z()));
     if (owner != partition_.rank) p.cell = -1;
   }
   // A region carries a reaction where some rank prescribes a displacement in it.
-  for (ReactionRegion& r : reactions_) r.force = par::any(r.force);
+  for (std::size_t k = 0; k < reactions_.size(); ++k) {
+    ReactionRegion& r = reactions_[k];
+    r.force = par::any(r.force);
+    if (!r.force && !r.heat)
+      throw InputError(case_->output.reaction_where[k],
+                       fmt::format("region '{}' has no prescribed displacement{}, so it carries "
+                                   "no reaction",
+                                   r.name, has_heat() ? " or temperature" : ""));
+  }
+}
+
+void Model::check_whole() const {
+  // In the order a whole mesh's binding makes them (bind_boundary, bind_heat), so that the
+  // first error is the same.
+  const auto& bcs = case_->boundary;
+  for (const BoundarySpec& bc : bcs)
+    if (bc.kind != BoundaryKind::displacement &&
+        par::sum(static_cast<long long>(mesh_.find_region(bc.region)->cells.size())) == 0)
+      throw InputError(bc.where, fmt::format("region '{}' has no faces to load", bc.region));
+  if (!par::any(!prescribed_.empty()))
+    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                     "no displacement condition: the body is free to move as a rigid body; "
+                     "prescribe displacements on some region");
+  if (global_[2] == 0)
+    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
+                     "every degree of freedom is prescribed: there is nothing to solve");
+  for (const HeatBoundarySpec& bc : case_->heat.boundary) {
+    const Region& r = *mesh_.find_region(bc.region);
+    if (bc.kind == HeatBoundarySpec::Kind::temperature) {
+      if (par::sum(static_cast<long long>(r.nodes.size())) == 0)
+        throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
+    } else if (par::sum(static_cast<long long>(r.cells.size())) == 0) {
+      throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",
+                                             r.name, to_string(bc.kind)));
+    }
+  }
 }
 
 void Model::set_partition(Partition partition) {

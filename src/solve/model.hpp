@@ -71,14 +71,16 @@ class Model {
  public:
   /// Binds the case to the mesh; throws InputError for everything that does not fit.
   Model(const Case& c, Mesh mesh, Log& log);
-  /// A rank's part of a model whose whole mesh was bound and checked on the rank that read it
-  /// (issue 21, docs/parallel.md): binds the case to the part alone. The checks that need the
-  /// whole mesh (a region empty, a probe outside the mesh, a body without supports) are that
-  /// model's; the figures of the whole (a total force's area, the owner of a probe, the global
-  /// counts) come with join(), which must follow on every rank. Not collective: a rank that
-  /// throws here lets the others know before join (app/main.cpp, together()).
+  /// A rank's part of a distributed model (issue 21, docs/parallel.md): binds the case to the
+  /// part alone. The checks that need the whole mesh (a region empty, a probe outside the
+  /// mesh, a body without supports) and the figures of the whole (a total force's area, the
+  /// owner of a probe, the global counts) come with join(), which must follow on every rank.
+  /// Not collective: a rank that throws here lets the others know before join (app/main.cpp,
+  /// together()).
   Model(const Case& c, MeshPart part, Log& log);
-  /// Completes a part model with what the ranks know together (above). Collective.
+  /// Completes a part model with what the ranks know together (above), and makes the whole
+  /// model's checks with the same messages as a whole mesh's: every rank throws the same
+  /// InputError. Collective.
   void join();
   /// A part model's contact points, from the whole model's on root (`whole`: each surface's
   /// points, ignored on the other ranks). Each rank keeps the points whose node its part
@@ -111,6 +113,8 @@ class Model {
   long long global_nodes() const { return global_[0]; }
   long long global_cells() const { return global_[1]; }
   long long global_free() const { return global_[2]; }
+  /// The length of the whole mesh's cell connectivity (its cells' node references).
+  long long global_connectivity() const { return global_[3]; }
 
   const Case& spec() const { return *case_; }
   const Mesh& mesh() const { return mesh_; }
@@ -213,13 +217,16 @@ class Model {
   /// The volume cell that owns boundary face f (holds all its corner nodes); -1 when none
   /// does, -2 when two do (an inner face). nc_*: node_cell_incidence of the cells.
   int face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx) const;
+  /// join()'s checks of what no part can judge alone: a region empty on every rank, a body
+  /// without supports or without a free dof. Collective.
+  void check_whole() const;
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 
   const Case* case_;
   Mesh mesh_;
   std::optional<MeshPart> part_;
-  long long global_[3] = {0, 0, 0};
+  long long global_[4] = {0, 0, 0, 0};
   /// On a part: this rank's area of each force boundary's region (join sums them), by index
   /// into Case::boundary.
   std::vector<std::pair<int, double>> part_areas_;

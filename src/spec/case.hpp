@@ -340,7 +340,17 @@ struct MeshSpec {
   int order = 0;               ///< 0: as in the file, else 1 or 2
   double scale = 1.0;          ///< > 0
   SourceLocation where;        ///< location of the file name (key mesh.file)
+  /// `split: true`: the mesh is the files Gmsh split it into (`-part N -part_split`), `file`'s
+  /// stem with _1 .. _N, one per MPI rank (piece_file); `pieces` is N (each exists).
+  bool split = false;
+  int pieces = 0;
 };
+
+/// File k (from 0) of a split mesh: cyl.msh's are cyl_1.msh, cyl_2.msh, ...
+inline std::filesystem::path piece_file(const MeshSpec& mesh, int k) {
+  return mesh.file.parent_path() /
+         (mesh.file.stem().string() + "_" + std::to_string(k + 1) + mesh.file.extension().string());
+}
 
 struct Case {
   std::filesystem::path file;  ///< the case file, absolute
