@@ -252,7 +252,11 @@ class MeshBuilder {
     if (!cell_type_of(b.type, 3, ct))
       throw fail("unsupported volume element " + gmsh_type_name(b.type) +
                  "; hencky supports 4/10-node tetrahedra, 8/20-node hexahedra and 6-node "
-                 "wedges (use mesh.order: 2 for serendipity quadratic elements)");
+                 "wedges " +
+                 (options_.piece ? "(the files of a split mesh are read as they are: mesh with "
+                                   "gmsh -order 2 -string \"Mesh.SecondOrderIncomplete=1;\" "
+                                   "for serendipity quadratic elements before splitting)"
+                                 : "(use mesh.order: 2 for serendipity quadratic elements)"));
     const int nn = cell_n_nodes(ct);
     for (std::size_t e = 0; e < b.tags.size(); ++e) {
       auto [it, fresh] = cell_of_tag_.emplace(b.tags[e], mesh_.cells.size());

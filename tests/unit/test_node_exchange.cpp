@@ -236,4 +236,32 @@ TEST(SharedNodes, EachRankReadsItsFileOfASplitMesh) {
     ghosts += n >= p.owned_nodes;
   }
   EXPECT_GT(par::sum(static_cast<long long>(ghosts)), 0);
+
+  // The files read together (read_pieces: one rank, other rank counts, contact) number the
+  // whole mesh as the parts do, so that checkpoints pass between the ways: each local node,
+  // cell and face is at its whole number there, with its tag, coordinates and nodes.
+  std::vector<fs::path> files;
+  for (int r = 1; r <= ranks; ++r) files.push_back(dir / ("split_" + std::to_string(r) + ".msh"));
+  const Mesh together = read_pieces(files, {});
+  ASSERT_EQ(together.n_nodes(), whole.n_nodes());
+  ASSERT_EQ(together.cells.size(), whole.cells.size());
+  for (int n = 0; n < m.n_nodes(); ++n) {
+    const int g = p.global_node[n];
+    ASSERT_EQ(together.node_tag[g], m.node_tag[n]) << "local node " << n;
+    EXPECT_EQ(together.x[g], m.x[n]);
+  }
+  for (int c = 0; c < m.cells.size(); ++c) {
+    const int g = p.global_cell[c];
+    ASSERT_EQ(together.cells.tag[g], m.cells.tag[c]);
+    const auto a = together.cells.nodes(g), b = m.cells.nodes(c);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], p.global_node[b[k]]);
+    EXPECT_EQ(together.regions[together.cell_region[g]].name, m.regions[m.cell_region[c]].name);
+  }
+  for (int f = 0; f < m.faces.size(); ++f)
+    EXPECT_EQ(together.faces.tag[p.global_face[f]], m.faces.tag[f]);
+  // A file that is not the partition its place in the series names is refused.
+  std::vector<fs::path> swapped = files;
+  std::swap(swapped[0], swapped[1]);
+  EXPECT_THROW(read_pieces(swapped, {}), InputError);
 }

@@ -182,6 +182,63 @@ ex_bad "partitioned: one file of a split mesh is refused" \
   "split_2\.msh:[0-9]+: not a valid Gmsh mesh file: the file holds 1 of the 3 partitions of a mesh split into files" \
   "$pd/split_2.yaml"
 
+# --- A mesh split into files (mesh.split, gmsh -part 3 -part_split): on 3 ranks each rank reads
+# its own file and no rank the whole mesh; on one rank and on 2 the files are read together,
+# numbered as the ranks' parts number them, so that checkpoints pass between the ways. The
+# answers are those of the same mesh in one file. The whole model's checks are made by the
+# ranks together, with the serial messages.
+sd="$work/split"
+rm -rf "$sd" && mkdir -p "$sd" && cp "$d/cylinder.geo" "$sd/"
+gmsh -3 -order 2 "$sd/cylinder.geo" -format msh41 -o "$sd/plain.msh" >/dev/null 2>&1 &&
+  gmsh -3 -order 2 -part 3 -part_split "$sd/cylinder.geo" -format msh41 -o "$sd/cyl.msh" \
+    >/dev/null 2>&1 || bad "split: gmsh could not write the meshes"
+sed -E -e "s#^  file: cylinder.geo.*#  file: plain.msh#" -e "/^  order: 2/d" "$d/case-direct.yaml" \
+  >"$sd/plain.yaml"
+sed -E -e "s#^  file: cylinder.geo.*#  file: cyl.msh\n  split: true#" -e "/^  order: 2/d" \
+  "$d/case-direct.yaml" >"$sd/split.yaml"
+expect "split: the mesh in one file, serial" 0 "" -- run "$sd/plain.yaml" -o "$sd/plain" --quiet
+mpi_expect "split: 3 files on 3 ranks, each reads its own" 0 \
+  "distributed mesh: 3 ranks, each read its file of the split mesh" 3 -- run "$sd/split.yaml" -o "$sd/own3"
+same "split: ... = the mesh in one file to 1e-10" "$sd/plain" "$sd/own3" 1e-10 displacement,stress
+same_history "split: ... and its history.csv to 1e-10" "$sd/plain" "$sd/own3" 1e-10 \
+  '^reaction\.top\.'
+if grep -q "mesh: $(sed -n 's/^mesh: //p' "$sd/plain/hencky.log")" "$sd/own3/hencky.log"; then
+  ok "split: ... and the log describes the whole mesh as the serial run does"
+else bad "split: the 3-rank log's mesh line is not the serial one" "$(grep '^mesh' "$sd"/*/hencky.log)"; fi
+expect "split: the files read together on one rank" 0 "" -- run "$sd/split.yaml" -o "$sd/one" --quiet
+same "split: ... = the mesh in one file to 1e-10" "$sd/plain" "$sd/one" 1e-10 displacement,stress
+mpi_expect "split: 3 files on 2 ranks: root reads them" 0 "split mesh: root read its 3 files" 2 -- \
+  run "$sd/split.yaml" -o "$sd/two"
+same "split: ... = the mesh in one file to 1e-10" "$sd/plain" "$sd/two" 1e-10 displacement,stress
+expect "split: the 3-rank run's checkpoint restarts on one rank" 0 "restart: from" -- \
+  run "$sd/split.yaml" -o "$sd/own3-from1" --restart "$sd/own3" --from 0.5
+same "split: ... = the 3-rank run to 1e-10" "$sd/own3" "$sd/own3-from1" 1e-10 displacement,stress
+mpi_expect "split: the serial run's checkpoint restarts on 3 ranks, each reading its file" 0 "" 3 -- \
+  run "$sd/split.yaml" -o "$sd/one-from3" --quiet --restart "$sd/one" --from 0.5
+same "split: ... = the serial run to 1e-10" "$sd/one" "$sd/one-from3" 1e-10 displacement,stress
+mpi_expect "split: a checkpoint of the mesh in one file is not the split mesh's (numbered otherwise)" \
+  1 "is not the mesh the checkpoint was written with" 3 -- \
+  run "$sd/split.yaml" -o "$sd/plain-from3" --quiet --restart "$sd/plain" --from 0.5
+sed 's/point: \[0.2, 0.0, 0.01\]/point: [0.3, 0.0, 0.01]/' "$sd/split.yaml" >"$sd/outside.yaml"
+mpi_expect "split: a probe outside every rank's part: the serial message" 1 \
+  "^error: .*outside.yaml:[0-9]+:[0-9]+: 'output.probes\[1\].point': probe 'outer' at \(0.3, 0, 0.01\) is outside the mesh$" \
+  3 -- run "$sd/outside.yaml" -o "$sd/outside"
+[ -e "$sd/outside" ] && bad "split: the refused case wrote $sd/outside" || ok "split: ... and wrote nothing"
+"$ex_py" - "$sd/split.yaml" "$sd/free.yaml" <<'PY'
+import sys
+s = open(sys.argv[1]).read()
+i, j = s.index("  - region: symmetry_x"), s.index("solver:")
+open(sys.argv[2], "w").write(s[:i] + "\n" + s[j:].replace("  reactions: [symmetry_x, symmetry_y, bottom]\n", ""))
+PY
+mpi_expect "split: no support on any rank: the serial message" 1 \
+  "^error: .*free.yaml: 'boundary': no displacement condition: the body is free to move" 3 -- \
+  run "$sd/free.yaml" -o "$sd/free"
+mkdir -p "$sd/gap" && cp "$sd/cyl_1.msh" "$sd/cyl_3.msh" "$sd/gap/" && cp "$sd/split.yaml" "$sd/gap/"
+ex_bad "split: a missing file (cyl_2.msh) is named by what the first says" \
+  "cyl_1\.msh: the file holds partition 1 of 3, but as file 1 of the 1 files of the split mesh" \
+  "$sd/gap/split.yaml"
+expect "split: hencky check reads the files together" 0 "mesh: [0-9]+ nodes, [0-9]+ elements" -- check "$sd/split.yaml"
+
 # --- Plastic: strip with a hole, overloaded and unloaded (20-node hexahedra, newton).
 ex_copy plate-hole-overload
 d="$work/examples/plate-hole-overload"

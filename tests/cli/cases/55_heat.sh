@@ -45,6 +45,29 @@ same "heat: ... = the serial run to 1e-8" "$hd/direct" "$hd/from30-s2" 1e-8 \
 same_history "heat: ... and its history.csv to 1e-8" "$hd/direct" "$hd/from30-s2" 1e-8 \
   '^reaction\.bottom\.'
 
+# The heated block in 3 files (mesh.split, 20-node hexahedra made before Gmsh splits the mesh):
+# on 3 ranks each reads its own file; the temperatures and heat fluxes are those of the same
+# mesh in one file, and the 3-rank checkpoint restarts on one rank.
+hs="$hd/split"
+mkdir -p "$hs" && cp "$hd/block.geo" "$hs/"
+serendipity=(-order 2 -string "Mesh.SecondOrderIncomplete=1;")
+gmsh -3 "${serendipity[@]}" "$hs/block.geo" -format msh41 -o "$hs/plain.msh" >/dev/null 2>&1 &&
+  gmsh -3 "${serendipity[@]}" -part 3 -part_split "$hs/block.geo" -format msh41 -o "$hs/blk.msh" \
+    >/dev/null 2>&1 || bad "heat: gmsh could not write the split meshes"
+sed -E 's#^mesh: .*#mesh: {file: plain.msh}#' "$hd/case-direct.yaml" >"$hs/plain.yaml"
+sed -E 's#^mesh: .*#mesh: {file: blk.msh, split: true}#' "$hd/case-direct.yaml" >"$hs/split.yaml"
+expect "heat: the block's mesh in one file, serial" 0 "" -- run "$hs/plain.yaml" -o "$hs/plain" --quiet
+mpi_expect "heat: the block in 3 files on 3 ranks, each reading its own" 0 \
+  "each read its file of the split mesh" 3 -- run "$hs/split.yaml" -o "$hs/own3"
+same "heat: ... = the mesh in one file to 1e-10" "$hs/plain" "$hs/own3" 1e-10 \
+  displacement,stress,temperature,heat_flux
+same_history "heat: ... and its history.csv to 1e-10" "$hs/plain" "$hs/own3" 1e-10 \
+  '^reaction\.bottom\.'
+expect "heat: ... its checkpoint at t = 30 restarts on one rank" 0 "" -- \
+  run "$hs/split.yaml" -o "$hs/own3-from1" --quiet --restart "$hs/own3" --from 30
+same "heat: ... = the 3-rank run to 1e-8" "$hs/own3" "$hs/own3-from1" 1e-8 \
+  displacement,stress,temperature,heat_flux
+
 # --- A heat analysis that does not converge stops with status 2 and keeps what converged:
 # radiation from surroundings at 1500 degrees switched on at t = 30, two Newton iterations
 # allowed (a step without radiation needs two: the solve, and the check of its correction).
