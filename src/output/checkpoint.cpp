@@ -230,25 +230,27 @@ std::vector<double> gather_runs(const std::vector<long long>& start, const std::
   return out;
 }
 
-/// A nodal array of `width` values a node in the whole mesh's order: the model's own, or on a
-/// distributed mesh the owners' values gathered on root (empty elsewhere; collective then).
-std::vector<double> whole_nodal(const Model& model, std::span<const double> v, int width) {
+/// A nodal array of `width` values a node, in the whole mesh's order: the model's own, or on a
+/// distributed mesh each owner's values, written into the file by their owner (put_runs).
+void put_nodal(CheckpointFile& f, const std::string& key, const Model& model,
+               std::span<const double> v, int width) {
   const MeshPart* part = model.part();
-  if (!part) return {v.begin(), v.end()};
+  if (!part) return f.put(key, v);
   std::vector<long long> start(part->owned_nodes);
   for (int i = 0; i < part->owned_nodes; ++i) start[i] = width * part->global_node[i];
-  return gather_runs(
-      start, std::vector<int>(part->owned_nodes, width),
-      {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * part->owned_nodes},
-      static_cast<std::size_t>(width) * model.global_nodes());
+  f.put_runs(key, static_cast<std::uint64_t>(width) * model.global_nodes(), std::move(start),
+             std::vector<int>(part->owned_nodes, width),
+             {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(width) * part->owned_nodes});
 }
 
-/// A per-point quantity of `width` numbers, this rank's points → the whole mesh's order on
-/// root (collective).
-std::vector<double> gather(const Model& model, const std::vector<long long>& off, int width,
-                           const std::function<void(int, double*)>& get) {
+/// A per-point quantity of `width` numbers in the whole mesh's order: on a distributed mesh
+/// each part's cells' points, a run at each cell's whole-mesh place (put_runs); else the points
+/// this rank holds, summed on root (collective).
+void put_points(CheckpointFile& f, const std::string& key, const Model& model,
+                const std::vector<long long>& off, int width,
+                const std::function<void(int, double*)>& get) {
   const auto total = static_cast<std::size_t>(off.back()) * width;
-  if (model.part()) {  // the part's cells' points, each cell a run at its whole-mesh place
+  if (model.part()) {
     std::vector<long long> start;
     std::vector<int> length;
     std::vector<double> values;
@@ -260,12 +262,12 @@ std::vector<double> gather(const Model& model, const std::vector<long long>& off
       for (int q = 0; q < n; ++q)
         get(model.point_offset(e) + q, &values[values.size() - (n - q) * width]);
     }
-    return gather_runs(start, length, values, total);
+    return f.put_runs(key, total, std::move(start), std::move(length), std::move(values));
   }
   std::vector<double> g(total, 0.0);
   for_each_held_point(model, off, [&](int p, long long i) { get(p, &g[i * width]); });
   par::sum_to_root(g);
-  return g;
+  f.put(key, std::span<const double>(g));
 }
 
 /// The other way: this rank's points from the whole mesh's order.
@@ -387,6 +389,17 @@ std::vector<std::vector<ContactNode>> get_contact(const CheckpointFile& f, const
 
 // ---- Files -----------------------------------------------------------------------------------
 
+/// A file written whole and flushed at `tmp` becomes `path` (removed when it cannot).
+void rename_into_place(const fs::path& tmp, const fs::path& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw OutputError(
+        fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
+  }
+}
+
 /// Writes what `produce` hands to its sink, piece by piece, to `path` through path.tmp, flushed
 /// to the disk (fsync) before the rename: the file is either the old one (or absent) or the
 /// whole new one.
@@ -418,13 +431,7 @@ void write_durably(
     ::unlink(tmp.c_str());
     throw OutputError(fmt::format("cannot write {}: {}", tmp.string(), why));
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw OutputError(
-        fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
-  }
+  rename_into_place(tmp, path);
 }
 
 void write_durably(const fs::path& path, std::string_view bytes) {
@@ -524,8 +531,7 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   f.put("force_integral", s.force_integral);
   // Nodal data: whole on every rank, or gathered from a distributed mesh's owners.
   const auto nodal = [&](const std::string& key, const std::vector<double>& v, int width) {
-    if (!model.part()) return f.put(key, std::span<const double>(v));
-    f.put(key, std::span<const double>(whole_nodal(model, v, width)));
+    put_nodal(f, key, model, v, width);
   };
   nodal("u", s.u, 3);
   nodal("nodal_temperature", s.nodal_temperature, 1);
@@ -537,18 +543,18 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   // Point data, in the whole mesh's order.
   const auto off = global_offsets(model);
   f.put("points", static_cast<std::int64_t>(model.total_points()));
-  f.put("points.stress",
-        gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.stress[p]); }));
-  f.put("points.temperature",
-        gather(model, off, 1, [&](int p, double* o) { o[0] = s.temperature[p]; }));
-  f.put("points.constants", gather(model, off, 3, [&](int p, double* o) {
-          o[0] = s.constants[p].E, o[1] = s.constants[p].nu, o[2] = s.constants[p].alpha;
-        }));
-  f.put("points.plastic_strain",
-        gather(model, off, 6, [&](int p, double* o) { put_voigt(o, s.plastic_strain[p]); }));
-  f.put("points.scalars", gather(model, off, 4, [&](int p, double* o) {
-          o[0] = s.eps_p_eq[p], o[1] = s.eps_ep[p], o[2] = s.eps_ep_max[p], o[3] = s.flowing[p];
-        }));
+  put_points(f, "points.stress", model, off, 6,
+             [&](int p, double* o) { put_voigt(o, s.stress[p]); });
+  put_points(f, "points.temperature", model, off, 1,
+             [&](int p, double* o) { o[0] = s.temperature[p]; });
+  put_points(f, "points.constants", model, off, 3, [&](int p, double* o) {
+    o[0] = s.constants[p].E, o[1] = s.constants[p].nu, o[2] = s.constants[p].alpha;
+  });
+  put_points(f, "points.plastic_strain", model, off, 6,
+             [&](int p, double* o) { put_voigt(o, s.plastic_strain[p]); });
+  put_points(f, "points.scalars", model, off, 4, [&](int p, double* o) {
+    o[0] = s.eps_p_eq[p], o[1] = s.eps_ep[p], o[2] = s.eps_ep_max[p], o[3] = s.flowing[p];
+  });
   // The equilibrium iteration's memory.
   const EquilibriumMemory& eq = run.equilibrium;
   const auto& dofs = model.dofs();
@@ -562,13 +568,11 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   const bool tangents = !eq.tangents.empty();
   f.put("equilibrium.has_tangents", static_cast<std::int64_t>(tangents));
   if (tangents) {
-    f.put("equilibrium.tangents", gather(model, off, tangent_width, [&](int p, double* o) {
-            put_tangent(o, eq.tangents[p]);
-          }));
+    put_points(f, "equilibrium.tangents", model, off, tangent_width,
+               [&](int p, double* o) { put_tangent(o, eq.tangents[p]); });
     if (eq.factorized)
-      f.put("equilibrium.assembled_tangents",
-            gather(model, off, tangent_width,
-                   [&](int p, double* o) { put_tangent(o, eq.assembled_tangents[p]); }));
+      put_points(f, "equilibrium.assembled_tangents", model, off, tangent_width,
+                 [&](int p, double* o) { put_tangent(o, eq.assembled_tangents[p]); });
   }
   put_contact(f, "equilibrium.assembled_contact", eq.assembled_contact, model);
   // The step targets still queued.
@@ -813,10 +817,21 @@ void CheckpointWriter::write(const State& committed, const RunMemory& run) {
   if (model_.spec().output.checkpoint_every() == 0) return;
   const CheckpointFile f =
       checkpoint_of(model_, committed, run, whole_ ? &*whole_ : nullptr);  // collective
-  if (!par::root()) return;
   const std::string name = file_name(run.steps);
-  // Straight from the records to the file: no serialized copy (72 MB at 366k unknowns).
-  write_durably(dir_ / name, [&](const auto& sink) { f.write(sink); });
+  if (f.distributed()) {
+    // Each rank writes its nodes' and points' values into the file itself: no rank gathers
+    // the whole (docs/parallel.md). Through name.tmp, as write_durably.
+    // Root's path: the output folder being written is root's (a name with its process id).
+    std::string tmp = fs::path(dir_ / name).concat(".tmp").string();
+    par::broadcast(tmp);
+    f.write_together(tmp);  // collective
+    if (!par::root()) return;
+    rename_into_place(tmp, dir_ / name);
+  } else {
+    if (!par::root()) return;
+    // Straight from the records to the file: no serialized copy (72 MB at 366k unknowns).
+    write_durably(dir_ / name, [&](const auto& sink) { f.write(sink); });
+  }
   std::erase_if(entries_, [&](const CheckpointEntry& e) { return e.step >= run.steps; });
   entries_.push_back({run.steps, committed.time, dir_ / name});
   ++written_;

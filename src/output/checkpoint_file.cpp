@@ -1,13 +1,18 @@
 // The checkpoint container (checkpoint_file.hpp): writing, and a reader that trusts nothing.
 #include "output/checkpoint_file.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
+#include <cerrno>
 #include <cstring>
 
 #include "core/error.hpp"
+#include "parallel/mpi.hpp"
 
 static_assert(std::endian::native == std::endian::little,
               "the checkpoint format is little-endian; a big-endian build needs byte swaps");
@@ -103,7 +108,125 @@ void CheckpointFile::put(const std::string& name, std::string text) {
   records_[name] = std::move(r);
 }
 
+void CheckpointFile::put_runs(const std::string& name, std::uint64_t total,
+                              std::vector<long long> start, std::vector<int> length,
+                              std::vector<double> values) {
+  if (par::size() == 1) {
+    std::vector<double> whole(total, 0.0);
+    for (std::size_t i = 0, at = 0; i < start.size(); at += length[i++])
+      std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(at), length[i],
+                  whole.begin() + start[i]);
+    return put(name, std::span<const double>(whole));
+  }
+  Record r;
+  r.type = Type::f64;
+  r.runs = true;
+  r.total = total;
+  r.run_start = std::move(start);
+  r.run_length = std::move(length);
+  r.f64 = std::move(values);
+  records_[name] = std::move(r);
+}
+
+bool CheckpointFile::distributed() const {
+  return std::any_of(records_.begin(), records_.end(),
+                     [](const auto& named) { return named.second.runs; });
+}
+
+void CheckpointFile::write_together(const std::string& path) const {
+  // Root lays the file out: its own bytes (the header, every record's head, the values of the
+  // records it holds whole) and where each distributed record's values begin.
+  std::vector<std::pair<std::uint64_t, std::string>> own;
+  std::vector<par::FilePiece> pieces;
+  std::string value_at;  // uint64 offsets, one per distributed record, in record order
+  if (par::root()) {
+    std::uint64_t at = header_size;
+    for (const auto& [name, r] : records_) {
+      std::string head;
+      append<std::uint32_t>(head, static_cast<std::uint32_t>(name.size()));
+      head += name;
+      append<std::uint8_t>(head, static_cast<std::uint8_t>(r.type));
+      append<std::uint64_t>(head, r.count());
+      own.emplace_back(at, std::move(head));
+      at += own.back().second.size();
+      std::string_view values;
+      switch (r.type) {
+        case Type::f64:
+          values = {reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size()};
+          break;
+        case Type::i64:
+          values = {reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size()};
+          break;
+        case Type::u8:
+          values = {reinterpret_cast<const char*>(r.u8.data()), r.u8.size()};
+          break;
+        case Type::text:
+          values = r.text;
+          break;
+      }
+      if (r.runs) {
+        append<std::uint64_t>(value_at, at);
+        at += 8 * r.total;
+      } else {
+        pieces.push_back({at, values});
+        at += values.size();
+      }
+    }
+    std::string header(magic, sizeof magic);
+    append<std::uint32_t>(header, checkpoint_format_version);
+    append<std::uint32_t>(header, 0);
+    append<std::uint64_t>(header, at - header_size);
+    append<std::uint32_t>(header, 0);  // the checksum, once the file is whole
+    append<std::uint32_t>(header, 0);
+    own.emplace_back(0, std::move(header));
+    for (const auto& [offset, bytes] : own) pieces.push_back({offset, bytes});
+  }
+  par::broadcast(value_at);
+  std::size_t k = 0;
+  for (const auto& [name, r] : records_) {
+    if (!r.runs) continue;
+    if (8 * (k + 1) > value_at.size())
+      throw std::logic_error("CheckpointFile::write_together: the ranks' records differ");
+    const auto first = take<std::uint64_t>(value_at, 8 * k++);
+    for (std::size_t i = 0, from = 0; i < r.run_start.size(); from += r.run_length[i++])
+      pieces.push_back({first + 8 * static_cast<std::uint64_t>(r.run_start[i]),
+                        {reinterpret_cast<const char*>(r.f64.data() + from),
+                         8 * static_cast<std::size_t>(r.run_length[i])}});
+  }
+  if (8 * k != value_at.size())
+    throw std::logic_error("CheckpointFile::write_together: the ranks' records differ");
+  std::sort(pieces.begin(), pieces.end(),
+            [](const par::FilePiece& a, const par::FilePiece& b) { return a.offset < b.offset; });
+  if (const std::string error = par::write_file_together(path, pieces); !error.empty())
+    throw OutputError(fmt::format("cannot write {}: {}", path, error));
+  if (!par::root()) return;
+  // The checksum of the payload, read back in pieces of 4 MiB, into the header; then the file
+  // to the disk.
+  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  auto fail = [&](const char* what) {
+    const std::string why = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    throw OutputError(fmt::format("cannot {} {}: {}", what, path, why));
+  };
+  if (fd < 0) fail("open");
+  std::string chunk(std::size_t{4} << 20, '\0');
+  std::uint32_t crc = 0;
+  for (off_t at = header_size;;) {
+    const ssize_t n = ::pread(fd, chunk.data(), chunk.size(), at);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail("read back");
+    if (n == 0) break;
+    crc = crc32(std::string_view(chunk.data(), static_cast<std::size_t>(n)), crc);
+    at += n;
+  }
+  if (::pwrite(fd, &crc, sizeof crc, 24) != static_cast<ssize_t>(sizeof crc)) fail("write");
+  if (::fsync(fd) != 0) fail("flush");
+  if (::close(fd) != 0)
+    throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+}
+
 std::size_t CheckpointFile::Record::count() const {
+  if (runs) return total;
   switch (type) {
     case Type::f64:
       return f64.size();
@@ -178,6 +301,8 @@ void CheckpointFile::payload(const std::function<void(std::string_view)>& piece)
 }
 
 void CheckpointFile::write(const std::function<void(std::string_view)>& sink) const {
+  if (distributed())
+    throw std::logic_error("CheckpointFile::write: a distributed record needs write_together");
   // Two passes over the records: the size and the checksum for the header, then the bytes.
   std::uint64_t size = 0;
   std::uint32_t crc = 0;

@@ -41,6 +41,12 @@ class CheckpointFile {
     std::vector<std::int64_t> i64;
     std::vector<std::uint8_t> u8;
     std::string text;
+    /// A distributed record (put_runs): its whole length, and this rank's runs of it (their
+    /// values in f64).
+    bool runs = false;
+    std::uint64_t total = 0;
+    std::vector<long long> run_start;
+    std::vector<int> run_length;
     std::size_t count() const;  ///< values of its type
   };
 
@@ -52,6 +58,22 @@ class CheckpointFile {
   void put(const std::string& name, std::int64_t v) {
     put(name, std::span<const std::int64_t>(&v, 1));
   }
+
+  /// A float64 record of `total` values of which this rank has runs: run i is `length[i]`
+  /// values from `start[i]` on, taken in turn from `values`, the starts increasing. On several
+  /// ranks each rank writes its own runs into the file (write_together) and no rank holds the
+  /// whole record; on one rank it is put() of the whole.
+  void put_runs(const std::string& name, std::uint64_t total, std::vector<long long> start,
+                std::vector<int> length, std::vector<double> values);
+  /// Some record is a distributed one (put_runs on several ranks): the file is written with
+  /// write_together, not write().
+  bool distributed() const;
+  /// Writes the file at `path` together with the other ranks (par::write_file_together): root
+  /// the header and the records it holds whole, each rank its runs of the distributed ones,
+  /// then root the checksum, which it reads the file back for, and flushes the file to the
+  /// disk. The same bytes as write() of the whole records. Collective; throws OutputError on
+  /// every rank when the file cannot be written (on root alone for the checksum).
+  void write_together(const std::string& path) const;
 
   bool has(const std::string& name) const { return records_.count(name) > 0; }
   /// The record's values; an InputError naming the file and the record when it is missing, of

@@ -1,11 +1,15 @@
 #include "parallel/mpi.hpp"
 
+#include <fcntl.h>
 #include <petscsys.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <climits>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 namespace hencky::par {
@@ -206,6 +210,49 @@ std::vector<std::string> gather_strings(const std::string& s) {
   if (root())
     for (int r = 0; r < p; ++r) out.push_back(all.substr(offsets[r], lengths[r]));
   return out;
+}
+
+std::string write_file_together(const std::string& path, const std::vector<FilePiece>& pieces) {
+  // Plain POSIX writes at offsets (pwrite), each rank its own pieces, after root created the
+  // file: MPI-IO would do the same, but Open MPI 4.1's OMPIO deadlocks in its shared-file-
+  // pointer component when that fails to start on one rank (seen as root, in MPI_File_open).
+  // On a shared network file system the ranks' writes are disjoint byte ranges, flushed and
+  // closed before root reads the file back (close-to-open consistency).
+  std::string error;
+  if (root()) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0 || ::close(fd) != 0) error = std::strerror(errno);
+  }
+  if (any(!error.empty())) {  // root's failure
+    broadcast(error);
+    return error;
+  }
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) error = std::strerror(errno);
+  for (std::size_t k = 0; fd >= 0 && error.empty() && k < pieces.size(); ++k) {
+    const std::string_view b = pieces[k].bytes;
+    for (std::size_t done = 0; done < b.size();) {
+      const ssize_t n = ::pwrite(fd, b.data() + done, b.size() - done,
+                                 static_cast<off_t>(pieces[k].offset + done));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) {
+        error = std::strerror(errno);
+        break;
+      }
+      done += static_cast<std::size_t>(n);
+    }
+  }
+  if (fd >= 0 && ::fsync(fd) != 0 && error.empty()) error = std::strerror(errno);
+  if (fd >= 0 && ::close(fd) != 0 && error.empty()) error = std::strerror(errno);
+  // One rank's failure is every rank's, with the lowest failing rank's text.
+  const int first = min(error.empty() ? INT_MAX : rank());
+  if (first == INT_MAX) return "";
+  if (first != 0) {
+    if (rank() == first) send_bytes(0, error);
+    if (root()) error = receive_bytes(first);
+  }
+  broadcast(error);
+  return error;
 }
 
 void sum_to_root(std::span<double> v) {

@@ -3,6 +3,7 @@
 // only when it was launched by mpirun or when the PETSc back end is asked for: a serial run with
 // the direct solver never touches MPI. Every collective below is a no-op on one process, so the
 // step loop calls them unconditionally.
+#include <cstdint>
 #include <exception>
 #include <span>
 #include <string>
@@ -71,6 +72,16 @@ std::string receive_bytes(int from);
 std::vector<std::string> exchange_bytes(const std::vector<std::string>& to_each);
 /// Every rank's string, on root (in rank order); empty elsewhere.
 std::vector<std::string> gather_strings(const std::string& s);
+/// A piece of a file: `bytes` at byte `offset`.
+struct FilePiece {
+  std::uint64_t offset = 0;
+  std::string_view bytes;
+};
+/// Writes one file together (the same path on every rank, on a file system they share): root
+/// creates or truncates it, then each rank writes its `pieces` (none overlapping another
+/// rank's) and flushes them to the disk. Returns "" or the failure's text, the same on every
+/// rank. Collective.
+std::string write_file_together(const std::string& path, const std::vector<FilePiece>& pieces);
 /// Sum over ranks into root's `v` (other ranks' `v` unchanged).
 void sum_to_root(std::span<double> v);
 

@@ -6,10 +6,15 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "output/checkpoint_file.hpp"
+#include "parallel/mpi.hpp"
+#include "verify_support.hpp"
 
 namespace hencky {
 namespace {
@@ -114,6 +119,70 @@ TEST(CheckpointFile, AConsistentFileWithAnAbsurdCountIsRefused) {
   b.append(reinterpret_cast<const char*>(&zero), 4);
   b += payload;
   EXPECT_THROW(CheckpointFile::parse(b, "x"), InputError);
+}
+
+// A checkpoint of a distributed mesh is written by every rank into the one file (issue 21):
+// each rank its runs of the nodal and point records, root the header, the other records and
+// the checksum. The file must be byte for byte the one a rank holding every record writes.
+// Runs of 7 values dealt out to the ranks in turn, and a record no rank has runs of, stand for
+// the owners' nodes and the parts' cells. Run on 1 rank and on 3 (ctest mpi_node_exchange).
+TEST(SharedFile, TheRanksWriteTheWholeFilesBytes) {
+  par::ensure_petsc();
+  const int ranks = par::size(), me = par::rank();
+  const auto runs = [&](std::size_t total, double scale) {
+    std::vector<long long> start;
+    std::vector<int> length;
+    std::vector<double> values;
+    for (std::size_t s = 0, k = 0; s < total; s += 7, ++k)
+      if (static_cast<int>(k % ranks) == me) {
+        start.push_back(static_cast<long long>(s));
+        length.push_back(static_cast<int>(std::min<std::size_t>(7, total - s)));
+        for (std::size_t i = s; i < s + length.back(); ++i) values.push_back(scale * i + 0.25);
+      }
+    return std::make_tuple(start, length, values);
+  };
+  const auto whole = [](std::size_t total, double scale) {
+    std::vector<double> v(total);
+    for (std::size_t i = 0; i < total; ++i) v[i] = scale * i + 0.25;
+    return v;
+  };
+  CheckpointFile shared, one;
+  for (CheckpointFile* f : {&shared, &one}) {
+    f->put("title", std::string("a distributed model"));
+    f->put("time", 0.5);
+    const std::int64_t counts[3] = {4, 17, 2};
+    f->put("counts", std::span<const std::int64_t>(counts));
+    const std::uint8_t flags[2] = {1, 0};
+    f->put("flags", std::span<const std::uint8_t>(flags));
+  }
+  auto [s1, l1, v1] = runs(1000, 0.5);
+  shared.put_runs("points.stress", 1000, s1, l1, v1);
+  auto [s2, l2, v2] = runs(45, -3.0);
+  shared.put_runs("u", 45, s2, l2, v2);
+  shared.put_runs("empty", 0, {}, {}, {});
+  one.put("points.stress", std::span<const double>(whole(1000, 0.5)));
+  one.put("u", std::span<const double>(whole(45, -3.0)));
+  one.put("empty", std::span<const double>());
+  EXPECT_EQ(shared.distributed(), ranks > 1);
+
+  verify::TempDir dir("shared_file");
+  std::string path = (dir / "step.hckp").string();
+  par::broadcast(path);  // root's folder
+  shared.write_together(path);
+  if (!par::root()) return;
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes, one.serialize());
+  const CheckpointFile back = CheckpointFile::parse(bytes, path);
+  EXPECT_EQ(back.f64("points.stress", 1000), whole(1000, 0.5));
+  EXPECT_EQ(back.f64("u", 45), whole(45, -3.0));
+}
+
+TEST(SharedFile, AFileThatCannotBeWrittenStopsEveryRank) {
+  par::ensure_petsc();
+  CheckpointFile f;
+  f.put_runs("u", 3, {0}, {3}, {1, 2, 3});
+  EXPECT_THROW(f.write_together("/nonexistent-folder/step.hckp"), OutputError);
 }
 
 }  // namespace
