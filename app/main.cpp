@@ -142,8 +142,9 @@ void add_memory(nlohmann::json& summary) {
   if (par::size() > 1) summary["peak_memory_bytes_all_ranks"] = par::sum(mine);
 }
 
-/// --restart DIR [--from T]: the checkpoint to continue from, read on every rank and checked
-/// against the model; `earlier` gets DIR's checkpoints up to it.
+/// --restart DIR [--from T]: the checkpoint to continue from, read on every rank (each its part
+/// of it on a distributed mesh) and checked against the model; `earlier` gets DIR's checkpoints up
+/// to it.
 Restart restart_memory(const Model& model, const fs::path& dir, std::optional<double> from,
                        std::vector<CheckpointEntry>& earlier, Log& log,
                        const CheckpointMesh* whole) {
@@ -166,7 +167,12 @@ Restart restart_memory(const Model& model, const fs::path& dir, std::optional<do
     pick = static_cast<std::size_t>(it - entries.begin());
   }
   const CheckpointEntry& e = entries[pick];
-  Restart r = restore_run(model, read_checkpoint(e.file), whole);
+  // On a distributed mesh no rank reads the file whole: each reads its nodes' and points'
+  // values where they are (records from 4096 numbers, 32 kB, on).
+  Restart r = restore_run(
+      model,
+      model.part() ? CheckpointFile::read_together(e.file.string(), 4096) : read_checkpoint(e.file),
+      whole);
   log.info("restart: from {} (step {}, t = {:g})", e.file.string(), r.run.steps, r.committed.time);
   entries.resize(pick + 1);
   earlier = std::move(entries);

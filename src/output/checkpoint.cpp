@@ -270,10 +270,25 @@ void put_points(CheckpointFile& f, const std::string& key, const Model& model,
   f.put(key, std::span<const double>(g));
 }
 
-/// The other way: this rank's points from the whole mesh's order.
-void scatter(const Model& model, const std::vector<long long>& off, int width,
-             const std::vector<double>& g, const std::function<void(int, const double*)>& set) {
-  for_each_held_point(model, off, [&](int p, long long i) { set(p, &g[i * width]); });
+/// The other way: this rank's points from the file's record `key` of `width` numbers a point,
+/// in the whole mesh's order (on a part, only its cells' runs of it are read).
+void scatter(const CheckpointFile& f, const std::string& key, const Model& model,
+             const std::vector<long long>& off, int width,
+             const std::function<void(int, const double*)>& set) {
+  const long long total = off.back() * width;
+  if (!model.part()) {
+    const std::vector<double>& g = f.f64(key, total);
+    for_each_held_point(model, off, [&](int p, long long i) { set(p, &g[i * width]); });
+    return;
+  }
+  std::vector<long long> start;
+  std::vector<int> length;
+  for (int e = 0; e < model.mesh().cells.size(); ++e) {
+    start.push_back(off[e] * width);
+    length.push_back((model.point_offset(e + 1) - model.point_offset(e)) * width);
+  }
+  const std::vector<double> mine = f.f64_runs(key, total, start, length);
+  for (int p = 0; p < model.n_points(); ++p) set(p, &mine[static_cast<std::size_t>(p) * width]);
 }
 
 void put_voigt(double* out, const Voigt& v) {
@@ -633,14 +648,13 @@ Restart restore_run(const Model& model, const CheckpointFile& f, const Checkpoin
   State& s = restart.committed;
   const long long n_nodes = mesh.n_nodes();
   // A nodal array of `width` values a node: the file's whole one, or a part's nodes of it.
+  // (Read where the file is, on a distributed restart: CheckpointFile::read_together.)
   const auto nodal = [&](const std::string& key, int width) {
     if (!model.part()) return f.f64(key, width * n_nodes);
-    const std::vector<double>& all = f.f64(key, width * model.global_nodes());
     const auto& global = model.part()->global_node;
-    std::vector<double> mine(static_cast<std::size_t>(width) * n_nodes);
-    for (long long i = 0; i < n_nodes; ++i)
-      for (int k = 0; k < width; ++k) mine[width * i + k] = all[width * global[i] + k];
-    return mine;
+    std::vector<long long> start(n_nodes);
+    for (long long i = 0; i < n_nodes; ++i) start[i] = width * static_cast<long long>(global[i]);
+    return f.f64_runs(key, width * model.global_nodes(), start, std::vector<int>(n_nodes, width));
   };
   s.time = f.scalar("time");
   const auto& counts = f.i64("counts", 3);
@@ -674,16 +688,16 @@ Restart restore_run(const Model& model, const CheckpointFile& f, const Checkpoin
   s.eps_ep.resize(n);
   s.eps_ep_max.resize(n);
   s.flowing.resize(n);
-  scatter(model, off, 6, f.f64("points.stress", 6 * n_all),
+  scatter(f, "points.stress", model, off, 6,
           [&](int p, const double* v) { s.stress[p] = get_voigt(v); });
-  scatter(model, off, 1, f.f64("points.temperature", n_all),
+  scatter(f, "points.temperature", model, off, 1,
           [&](int p, const double* v) { s.temperature[p] = v[0]; });
-  scatter(model, off, 3, f.f64("points.constants", 3 * n_all), [&](int p, const double* v) {
+  scatter(f, "points.constants", model, off, 3, [&](int p, const double* v) {
     s.constants[p] = ElasticConstants{v[0], v[1], v[2]};
   });
-  scatter(model, off, 6, f.f64("points.plastic_strain", 6 * n_all),
+  scatter(f, "points.plastic_strain", model, off, 6,
           [&](int p, const double* v) { s.plastic_strain[p] = get_voigt(v); });
-  scatter(model, off, 4, f.f64("points.scalars", 4 * n_all), [&](int p, const double* v) {
+  scatter(f, "points.scalars", model, off, 4, [&](int p, const double* v) {
     s.eps_p_eq[p] = v[0], s.eps_ep[p] = v[1], s.eps_ep_max[p] = v[2];
     s.flowing[p] = v[3] != 0;
   });
@@ -703,12 +717,11 @@ Restart restore_run(const Model& model, const CheckpointFile& f, const Checkpoin
     changed(f, "materials", "the plasticity of the materials changed");
   if (tangents) {
     eq.tangents.resize(n);
-    scatter(model, off, tangent_width, f.f64("equilibrium.tangents", tangent_width * n_all),
+    scatter(f, "equilibrium.tangents", model, off, tangent_width,
             [&](int p, const double* v) { eq.tangents[p] = get_tangent(v); });
     if (eq.factorized) {
       eq.assembled_tangents.resize(n);
-      scatter(model, off, tangent_width,
-              f.f64("equilibrium.assembled_tangents", tangent_width * n_all),
+      scatter(f, "equilibrium.assembled_tangents", model, off, tangent_width,
               [&](int p, const double* v) { eq.assembled_tangents[p] = get_tangent(v); });
     }
   }

@@ -3,13 +3,16 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cerrno>
+#include <climits>
 #include <cstring>
+#include <optional>
 
 #include "core/error.hpp"
 #include "parallel/mpi.hpp"
@@ -227,6 +230,7 @@ void CheckpointFile::write_together(const std::string& path) const {
 
 std::size_t CheckpointFile::Record::count() const {
   if (runs) return total;
+  if (in_file) return file_count;
   switch (type) {
     case Type::f64:
       return f64.size();
@@ -260,7 +264,19 @@ const CheckpointFile::Record& CheckpointFile::get(const std::string& name, Type 
 }
 
 const std::vector<double>& CheckpointFile::f64(const std::string& name, long long expected) const {
-  return get(name, Type::f64, expected).f64;
+  const Record& r = get(name, Type::f64, expected);
+  if (r.in_file && r.f64.size() != r.file_count) {  // read whole on first use
+    std::vector<long long> start{0};
+    std::vector<int> length;
+    for (std::uint64_t left = r.file_count; left > 0;) {  // runs an int counts
+      length.push_back(static_cast<int>(std::min<std::uint64_t>(left, 1u << 30)));
+      left -= static_cast<std::uint64_t>(length.back());
+      if (left > 0) start.push_back(start.back() + length.back());
+    }
+    if (length.empty()) start.clear();
+    r.f64 = f64_runs(name, expected, start, length);
+  }
+  return r.f64;
 }
 const std::vector<std::int64_t>& CheckpointFile::i64(const std::string& name,
                                                      long long expected) const {
@@ -328,9 +344,30 @@ std::string CheckpointFile::serialize() const {
   return out;
 }
 
+/// Where a checkpoint's bytes come from: `total` bytes, `fetch(at, n)` the n bytes at `at`
+/// (valid until the next call), `crc_from(at)` the CRC-32 of the bytes from `at` to the end
+/// (nullopt: not checked here).
+struct CheckpointFile::Source {
+  std::uint64_t total = 0;
+  std::function<std::string_view(std::uint64_t, std::size_t)> fetch;
+  std::function<std::optional<std::uint32_t>(std::uint64_t)> crc_from;
+};
+
 CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& label) {
+  Source src;
+  src.total = bytes.size();
+  src.fetch = [&](std::uint64_t at, std::size_t n) { return bytes.substr(at, n); };
+  src.crc_from = [&](std::uint64_t at) -> std::optional<std::uint32_t> {
+    return crc32(bytes.substr(at));
+  };
+  return parse_from(src, label, UINT64_MAX);
+}
+
+CheckpointFile CheckpointFile::parse_from(const Source& src, const std::string& label,
+                                          std::uint64_t in_file_from) {
   const SourceLocation where{label, 0, 0, ""};
   auto fail = [&](const std::string& why) { return InputError(where, why); };
+  const std::string_view bytes = src.fetch(0, std::min<std::uint64_t>(src.total, header_size));
   if (bytes.size() < header_size || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
     throw fail("not a hencky checkpoint (its first bytes are not \"HNCKCKPT\")");
   const auto version = take<std::uint32_t>(bytes, 8);
@@ -341,40 +378,43 @@ CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& 
         version, checkpoint_format_version));
   if (version == 0) throw fail("the checkpoint's format version is 0: the file is damaged");
   const auto size = take<std::uint64_t>(bytes, 16);
-  if (size != bytes.size() - header_size)
+  if (size != src.total - header_size)
     throw fail(
         fmt::format("the checkpoint is truncated or damaged: its header announces {} "
                     "bytes of data, the file has {}",
-                    size, bytes.size() - header_size));
-  const std::string_view payload = bytes.substr(header_size);
-  if (crc32(payload) != take<std::uint32_t>(bytes, 24))
+                    size, src.total - header_size));
+  const auto crc = take<std::uint32_t>(bytes, 24);
+  if (const auto found = src.crc_from(header_size); found && *found != crc)
     throw fail("the checkpoint is damaged: its checksum (CRC-32) does not match its data");
   CheckpointFile f;
   f.label_ = label;
-  std::size_t at = 0;
-  auto need = [&](std::size_t n, const char* what) {
-    if (n > payload.size() - at)
+  const std::uint64_t end = src.total - header_size;  // the payload's bytes
+  std::uint64_t at = 0;                               // in the payload
+  auto need = [&](std::uint64_t n, const char* what) {
+    if (n > end - at)
       throw fail(fmt::format("the checkpoint is damaged: {} at byte {} runs past its end", what,
                              header_size + at));
   };
-  while (at < payload.size()) {
+  auto fetch = [&](std::uint64_t n) { return src.fetch(header_size + at, n); };
+  while (at < end) {
     need(4, "a record's name length");
-    const auto name_size = take<std::uint32_t>(payload, at);
+    const auto name_size = take<std::uint32_t>(fetch(4), 0);
     at += 4;
     if (name_size == 0 || name_size > max_name)
       throw fail(fmt::format("the checkpoint is damaged: a record name of {} bytes at byte {}",
                              name_size, header_size + at - 4));
     need(name_size + 1 + 8, "a record's header");
-    std::string name(payload.substr(at, name_size));
+    const std::string_view head = fetch(name_size + 1 + 8);
+    std::string name(head.substr(0, name_size));
     at += name_size;
-    const auto type = static_cast<Type>(take<std::uint8_t>(payload, at));
+    const auto type = static_cast<Type>(take<std::uint8_t>(head, name_size));
     at += 1;
     if (value_size(type) == 0)
       throw fail(fmt::format("the checkpoint is damaged: record '{}' has an unknown type {}", name,
                              static_cast<int>(type)));
-    const auto count = take<std::uint64_t>(payload, at);
+    const auto count = take<std::uint64_t>(head, name_size + 1);
     at += 8;
-    if (count > (payload.size() - at) / value_size(type))
+    if (count > (end - at) / value_size(type))
       throw fail(
           fmt::format("the checkpoint is damaged: record '{}' announces {} values, more "
                       "than the file holds",
@@ -383,27 +423,127 @@ CheckpointFile CheckpointFile::parse(std::string_view bytes, const std::string& 
       throw fail(fmt::format("the checkpoint is damaged: record '{}' appears twice", name));
     Record r;
     r.type = type;
-    const char* p = payload.data() + at;
-    switch (type) {
-      case Type::f64:
-        r.f64.resize(count);
-        if (count) std::memcpy(r.f64.data(), p, 8 * count);
-        break;
-      case Type::i64:
-        r.i64.resize(count);
-        if (count) std::memcpy(r.i64.data(), p, 8 * count);
-        break;
-      case Type::u8:
-        r.u8.assign(p, p + count);
-        break;
-      case Type::text:
-        r.text.assign(p, count);
-        break;
+    if (type == Type::f64 && count >= in_file_from) {
+      r.in_file = true;
+      r.file_offset = header_size + at;
+      r.file_count = count;
+    } else {
+      const std::string_view values = fetch(count * value_size(type));
+      const char* p = values.data();
+      switch (type) {
+        case Type::f64:
+          r.f64.resize(count);
+          if (count) std::memcpy(r.f64.data(), p, 8 * count);
+          break;
+        case Type::i64:
+          r.i64.resize(count);
+          if (count) std::memcpy(r.i64.data(), p, 8 * count);
+          break;
+        case Type::u8:
+          r.u8.assign(p, p + count);
+          break;
+        case Type::text:
+          r.text.assign(p, count);
+          break;
+      }
     }
     at += count * value_size(type);
     f.records_.emplace(std::move(name), std::move(r));
   }
   return f;
+}
+
+namespace {
+/// Reads `n` bytes at `at` of an open file into `out`; false on a read error or a short file.
+bool read_at(int fd, std::uint64_t at, std::size_t n, char* out) {
+  for (std::size_t done = 0; done < n;) {
+    const ssize_t k = ::pread(fd, out + done, n - done, static_cast<off_t>(at + done));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    done += static_cast<std::size_t>(k);
+  }
+  return true;
+}
+}  // namespace
+
+CheckpointFile CheckpointFile::read_together(const std::string& path, std::uint64_t in_file_from) {
+  const SourceLocation where{path, 0, 0, ""};
+  std::string error;
+  CheckpointFile f;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  try {
+    struct stat st {};
+    if (fd < 0 || ::fstat(fd, &st) != 0)
+      throw InputError(where, fmt::format("cannot read the checkpoint: {}", std::strerror(errno)));
+    std::string buffer;
+    Source src;
+    src.total = static_cast<std::uint64_t>(st.st_size);
+    src.fetch = [&](std::uint64_t at, std::size_t n) {
+      buffer.resize(n);
+      if (!read_at(fd, at, n, buffer.data()))
+        throw InputError(where, "cannot read the checkpoint (a read failed or came up short)");
+      return std::string_view(buffer);
+    };
+    // Root checks the checksum, reading the file in pieces of 4 MiB; the others trust it.
+    src.crc_from = [&](std::uint64_t at) -> std::optional<std::uint32_t> {
+      if (!par::root()) return std::nullopt;
+      std::uint32_t crc = 0;
+      for (std::uint64_t k = at; k < src.total;) {
+        const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(4u << 20, src.total - k));
+        crc = crc32(src.fetch(k, n), crc);
+        k += n;
+      }
+      return crc;
+    };
+    f = parse_from(src, path, in_file_from);
+    f.path_ = path;
+  } catch (const InputError& e) {
+    error = e.message();
+  }
+  if (fd >= 0) ::close(fd);
+  // Root's verdict first (the checksum is its alone), then the lowest rank that failed.
+  int first = par::min(error.empty() ? INT_MAX : par::rank());
+  if (first == INT_MAX) return f;
+  if (first != 0) {
+    if (par::rank() == first) par::send_bytes(0, error);
+    if (par::root()) error = par::receive_bytes(first);
+  }
+  par::broadcast(error);
+  throw InputError(where, error);
+}
+
+std::vector<double> CheckpointFile::f64_runs(const std::string& name, long long expected,
+                                             std::span<const long long> start,
+                                             std::span<const int> length) const {
+  const Record& r = get(name, Type::f64, expected);
+  std::size_t n = 0;
+  for (int l : length) n += static_cast<std::size_t>(l);
+  std::vector<double> out(n);
+  const SourceLocation where{label_, 0, 0, name};
+  for (std::size_t i = 0; i < start.size(); ++i)
+    if (start[i] < 0 || static_cast<std::uint64_t>(start[i]) + length[i] > r.count())
+      throw std::out_of_range("CheckpointFile::f64_runs: a run outside record " + name);
+  if (!r.in_file) {
+    for (std::size_t i = 0, at = 0; i < start.size(); at += length[i++])
+      std::copy_n(r.f64.begin() + start[i], length[i],
+                  out.begin() + static_cast<std::ptrdiff_t>(at));
+    return out;
+  }
+  const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  bool ok = fd >= 0;
+  // Neighbouring runs are read at once.
+  for (std::size_t i = 0, at = 0; ok && i < start.size();) {
+    std::size_t j = i + 1, values = static_cast<std::size_t>(length[i]);
+    while (j < start.size() && start[j] == start[j - 1] + length[j - 1])
+      values += static_cast<std::size_t>(length[j++]);
+    ok = read_at(fd, r.file_offset + 8 * static_cast<std::uint64_t>(start[i]), 8 * values,
+                 reinterpret_cast<char*>(out.data() + at));
+    at += values;
+    i = j;
+  }
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw InputError(where, "cannot read the checkpoint (a read failed or came up short)");
+  return out;
 }
 
 }  // namespace hencky

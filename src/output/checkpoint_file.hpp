@@ -37,12 +37,15 @@ class CheckpointFile {
   enum class Type : std::uint8_t { f64 = 1, i64 = 2, u8 = 3, text = 4 };
   struct Record {
     Type type = Type::f64;
-    std::vector<double> f64;
+    mutable std::vector<double> f64;  ///< (an in-file record's, once f64() read it)
     std::vector<std::int64_t> i64;
     std::vector<std::uint8_t> u8;
     std::string text;
     /// A distributed record (put_runs): its whole length, and this rank's runs of it (their
     /// values in f64).
+    /// A record read_together left in the file: where its values start, and how many.
+    bool in_file = false;
+    std::uint64_t file_offset = 0, file_count = 0;
     bool runs = false;
     std::uint64_t total = 0;
     std::vector<long long> run_start;
@@ -93,14 +96,28 @@ class CheckpointFile {
   void write(const std::function<void(std::string_view)>& sink) const;
   /// Reads a file's bytes; `label` names it in messages. Throws InputError.
   static CheckpointFile parse(std::string_view bytes, const std::string& label);
+  /// Reads the file at `path` on every rank without any rank holding its large records (a
+  /// distributed restart, issue 21): root checks the checksum, reading the file in pieces,
+  /// every rank checks the records' heads and reads the records of fewer than `in_file_from`
+  /// float64 values; the larger ones stay in the file, read where f64_runs asks (or whole by
+  /// f64, on first use). Collective; throws the same InputError, naming the file, on every rank.
+  static CheckpointFile read_together(const std::string& path, std::uint64_t in_file_from);
+  /// A float64 record's values at its runs (start[i], length[i]), in turn: from the file for
+  /// one that read_together left there, else from those held. InputError as f64().
+  std::vector<double> f64_runs(const std::string& name, long long expected,
+                               std::span<const long long> start, std::span<const int> length) const;
   const std::string& label() const { return label_; }
 
  private:
+  struct Source;
+  static CheckpointFile parse_from(const Source& src, const std::string& label,
+                                   std::uint64_t in_file_from);
   const Record& get(const std::string& name, Type type, long long expected) const;
   /// The payload's pieces, in order.
   void payload(const std::function<void(std::string_view)>& piece) const;
   std::map<std::string, Record> records_;
   std::string label_;
+  std::string path_;  ///< the file read_together read (its in-file records' source)
 };
 
 }  // namespace hencky

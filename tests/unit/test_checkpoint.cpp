@@ -169,9 +169,39 @@ TEST(SharedFile, TheRanksWriteTheWholeFilesBytes) {
   std::string path = (dir / "step.hckp").string();
   par::broadcast(path);  // root's folder
   shared.write_together(path);
+  std::string bytes;  // as written, on root
+  if (par::root()) {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // Read back without any rank holding the large records: each reads its runs where they are.
+  const CheckpointFile part = CheckpointFile::read_together(path, 100);
+  const std::vector<long long> start = {993, 0, 500, 507};
+  const std::vector<int> length = {7, 3, 7, 2};
+  const std::vector<double> runs_read = part.f64_runs("points.stress", 1000, start, length);
+  const std::vector<double> all = whole(1000, 0.5);
+  std::vector<double> expected;
+  for (std::size_t i = 0; i < start.size(); ++i)
+    expected.insert(expected.end(), all.begin() + start[i], all.begin() + start[i] + length[i]);
+  EXPECT_EQ(runs_read, expected);
+  EXPECT_EQ(part.f64("u", 45), whole(45, -3.0));    // below 100 values: read whole
+  EXPECT_EQ(part.f64("points.stress", 1000), all);  // read whole on first use
+  EXPECT_EQ(part.text("title"), "a distributed model");
+  EXPECT_THROW(part.f64_runs("points.stress", 999, start, length), InputError);  // its length
+  // A damaged file: root finds the checksum wrong, and every rank stops with its message.
+  if (par::root()) {
+    std::fstream damage(path, std::ios::in | std::ios::out | std::ios::binary);
+    damage.seekp(-3, std::ios::end);
+    damage.put('\x7f');
+  }
+  par::any(false);  // the damage is done before any rank reads
+  try {
+    CheckpointFile::read_together(path, 100);
+    ADD_FAILURE() << "a damaged file was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.message().find("checksum"), std::string::npos) << e.what();
+  }
   if (!par::root()) return;
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(bytes, one.serialize());
   const CheckpointFile back = CheckpointFile::parse(bytes, path);
   EXPECT_EQ(back.f64("points.stress", 1000), whole(1000, 0.5));
