@@ -54,18 +54,8 @@ for c in contact heat; do
           -x OMP_NUM_THREADS=1 "$bin" run "$c.yaml" -o "$dir" --quiet >"$dir.log" 2>&1 || rc=$?
       fi
       t1=$(date +%s.%N)
-      /usr/bin/python3 - "$dir/summary.json" "$c" "$mode" "$np" "$rc" "$t0" "$t1" >>"$out" <<'PY'
-import json, sys
-f, c, mode, np, rc, t0, t1 = sys.argv[1:]
-try:
-    s = json.load(open(f))
-except OSError:
-    print(f"| {c} | {mode} | {np} | {rc} | – | – | – | – | – |")
-    sys.exit()
-mib = 2.0 ** 20
-print(f"| {c} | {mode} | {np} | {rc} | {float(t1) - float(t0):.1f} | {s['peak_memory_bytes'] / mib:.0f} | "
-      f"{s.get('peak_memory_bytes_all_ranks', s['peak_memory_bytes']) / mib:.0f} | {s['iterations']} | {s['dofs']} |")
-PY
+      /usr/bin/python3 "$here/bench/memory_row.py" "$dir/summary.json" "$rc" "$t0" "$t1" \
+        wall,largest,all,iterations,dofs "$c" "$mode" "$np" >>"$out"
     done
   done
 done

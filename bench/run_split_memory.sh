@@ -61,18 +61,8 @@ for ck in every none; do
       label="one file, root sends the parts"
       [ "$input" = split ] && label="$np files, each rank its own"
       [ "$np" = 1 ] && label="one file"
-      /usr/bin/python3 - "$dir/summary.json" "$label" "$ck" "$np" "$rc" "$t0" "$t1" >>"$out" <<'PY'
-import json, sys
-f, label, ck, np, rc, t0, t1 = sys.argv[1:]
-try:
-    s = json.load(open(f))
-except OSError:
-    print(f"| {label} | {ck} | {np} | {rc} | – | – | – | – |")
-    sys.exit()
-mib = 2.0 ** 20
-print(f"| {label} | {ck} | {np} | {rc} | {float(t1) - float(t0):.1f} | {s['peak_memory_bytes'] / mib:.0f} | "
-      f"{s.get('peak_memory_bytes_all_ranks', s['peak_memory_bytes']) / mib:.0f} | {s['dofs']} |")
-PY
+      /usr/bin/python3 "$here/bench/memory_row.py" "$dir/summary.json" "$rc" "$t0" "$t1" \
+        wall,largest,all,dofs "$label" "$ck" "$np" >>"$out"
     done
   done
 done
