@@ -294,7 +294,8 @@ int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLoca
         piece = read_gmsh(piece_file(l.spec->mesh, par::rank()), options);
       }))
     return code;
-  MeshPart part = part_of_piece(std::move(piece));
+  MeshPart part;
+  if (int code = together([&] { part = part_of_piece(std::move(piece)); })) return code;
   l.mesh_seconds = since(t_mesh);
   const auto t_setup = Clock::now();
   if (int code =

@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <exception>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -103,6 +105,7 @@ void Model::join() {
     end = std::max(end, whole_point_offset_[e] + point_offset_[e + 1] - point_offset_[e]);
   if (par::max(end) != total_points_)
     throw std::logic_error("Model::join: the part's point offsets are not the model's points");
+  check_outer_faces();
   check_whole();
   // A total force spreads over its region's whole area.
   std::vector<double> area(case_->boundary.size(), 0.0);
@@ -136,6 +139,83 @@ void Model::join() {
                        fmt::format("region '{}' has no prescribed displacement{}, so it carries "
                                    "no reaction",
                                    r.name, has_heat() ? " or temperature" : ""));
+  }
+}
+
+void Model::check_outer_faces() const {
+  // A loaded face between two ranks' cells: each rank that holds it finds one cell at it
+  // (face_owner), so the ranks count together the cells at every loaded face whose corners
+  // all have copies on other ranks (only such a face can have a cell elsewhere).
+  std::vector<double> copies(mesh_.n_nodes(), 1.0);
+  exchange_->sum(copies, 1);
+  std::string mine;  // per candidate: heat?, condition, face tag, corners' whole numbers
+  const auto add = [&](int f, int b, bool heat) {
+    const auto nodes = mesh_.faces.nodes(f);
+    const int corners = cell_n_corners(mesh_.faces.type[f]);
+    std::array<long long, 4> key{-1, -1, -1, -1};
+    for (int a = 0; a < corners; ++a) {
+      if (copies[nodes[a]] < 1.5) return;
+      key[a] = part_->global_node[nodes[a]];
+    }
+    mine += fmt::format("{} {} {} {} {} {} {}\n", int(heat), b, mesh_.faces.tag[f], key[0], key[1],
+                        key[2], key[3]);
+  };
+  for (const FaceLoad& load : face_loads_) add(load.face, load.boundary, false);
+  for (const HeatFace& face : heat_faces_) add(face.face, face.boundary, true);
+  std::string all;
+  for (const std::string& text : par::gather_strings(mine)) all += text;
+  par::broadcast(all);
+  if (all.empty()) return;
+  struct Candidate {
+    int heat, condition;
+    long tag;
+    std::array<long long, 4> key;
+  };
+  std::vector<Candidate> candidates;
+  std::istringstream in(all);
+  for (Candidate c{};
+       in >> c.heat >> c.condition >> c.tag >> c.key[0] >> c.key[1] >> c.key[2] >> c.key[3];)
+    candidates.push_back(c);
+  std::unordered_map<long long, int> local;
+  for (int n = 0; n < mesh_.n_nodes(); ++n) local.emplace(part_->global_node[n], n);
+  std::vector<int> nc_ptr, nc_idx;
+  node_cell_incidence(mesh_.cells, mesh_.n_nodes(), nc_ptr, nc_idx);
+  std::vector<double> cells(candidates.size(), 0.0);  // this rank's cells at each face
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    int corner[4], n = 0;
+    for (long long g : candidates[i].key)
+      if (g >= 0) {
+        const auto it = local.find(g);
+        if (it == local.end()) break;
+        corner[n++] = it->second;
+      }
+    if (n != std::count_if(candidates[i].key.begin(), candidates[i].key.end(),
+                           [](long long g) { return g >= 0; }))
+      continue;
+    for (int k = nc_ptr[corner[0]]; k < nc_ptr[corner[0] + 1]; ++k) {
+      const auto cn = mesh_.cells.nodes(nc_idx[k]);
+      cells[i] += std::all_of(corner + 1, corner + n, [&](int c) {
+        return std::find(cn.begin(), cn.end(), c) != cn.end();
+      });
+    }
+  }
+  par::sum_in_place(std::span<double>(cells));
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (cells[i] < 2) continue;
+    const Candidate& c = candidates[i];
+    if (c.heat) {
+      const HeatBoundarySpec& bc = case_->heat.boundary[c.condition];
+      throw InputError(bc.where,
+                       fmt::format("face {} of region '{}' is inside the body (between two "
+                                   "elements); a {} condition acts on the outer surface of the "
+                                   "body",
+                                   c.tag, bc.region, to_string(bc.kind)));
+    }
+    const BoundarySpec& bc = case_->boundary[c.condition];
+    throw InputError(bc.where,
+                     fmt::format("face {} of region '{}' is inside the body (between two "
+                                 "elements); a {} must be applied on the outer surface of the body",
+                                 c.tag, bc.region, to_string(bc.kind)));
   }
 }
 

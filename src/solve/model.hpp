@@ -220,6 +220,9 @@ class Model {
   /// join()'s checks of what no part can judge alone: a region empty on every rank, a body
   /// without supports or without a free dof. Collective.
   void check_whole() const;
+  /// join()'s check that every loaded face is on the outer surface where its two cells (an
+  /// inner face's) are on two ranks: each finds one cell at it. Collective.
+  void check_outer_faces() const;
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 

@@ -7,8 +7,13 @@
 // the ranks' faces and cells.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
+#include "input/case_reader.hpp"
+#include "input/gmsh_reader.hpp"
 #include "input/load_case.hpp"
 #include "parallel/mpi.hpp"
 #include "verify_support.hpp"
@@ -158,4 +163,75 @@ solver: {steps: 1}
   }
   EXPECT_GT(par::sum(static_cast<long long>(quadratic)), 0);  // a rank may hold none of them
   EXPECT_EQ(par::sum(static_cast<long long>(owned)), static_cast<long long>(all.points.size()));
+}
+
+// A load on a face inside the body is refused (it must be on the outer surface). On a whole
+// mesh the face's two cells show it; on a distributed mesh whose ranks hold one cell each, only
+// the ranks together can (Model::join, check_outer_faces): the region "inner" here is faces
+// between two cells of different ranks under the split, or between any two cells on one rank.
+TEST(PartModel, ALoadInsideTheBodyIsRefusedWhereItsCellsAreOnTwoRanks) {
+  par::ensure_petsc();
+  TempDir dir("inner_face");
+  write_file(dir / "box.geo", box_geo(2, 1, 1, 0.25));
+  write_file(dir / "case.yaml", R"yaml(title: inner face
+mesh: {file: box.geo}
+materials:
+  - {name: steel, E: 2.0e11, nu: 0.3}
+boundary:
+  - {region: x0, displacement: {x: 0, y: 0, z: 0}}
+  - {region: inner, pressure: "1e5*t"}
+solver: {steps: 1}
+)yaml");
+  const Case spec = read_case(dir / "case.yaml");
+  Mesh mesh = read_gmsh(spec.mesh.file, {});
+  const int ranks = par::size();
+  const std::vector<int> owner = split_cells(mesh, ranks);
+  // The faces of the cells by their sorted corners; an inner face has two cells.
+  std::map<std::array<int, 3>, std::vector<int>> cells_at;
+  const int faces_of_tet[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+  for (int c = 0; c < mesh.cells.size(); ++c) {
+    const auto n = mesh.cells.nodes(c);
+    for (const auto& f : faces_of_tet) {
+      std::array<int, 3> key{n[f[0]], n[f[1]], n[f[2]]};
+      std::sort(key.begin(), key.end());
+      cells_at[key].push_back(c);
+    }
+  }
+  Region inner;
+  inner.name = "inner";
+  inner.dim = 2;
+  for (const auto& [key, cells] : cells_at)
+    if (cells.size() == 2 && (ranks == 1 || owner[cells[0]] != owner[cells[1]])) {
+      inner.cells.push_back(mesh.faces.size());
+      mesh.faces.add(CellType::tri3, key, 900000 + mesh.faces.size());
+      inner.nodes.insert(inner.nodes.end(), key.begin(), key.end());
+      if (inner.cells.size() == 5) break;
+    }
+  ASSERT_EQ(inner.cells.size(), 5u);
+  std::sort(inner.nodes.begin(), inner.nodes.end());
+  inner.nodes.erase(std::unique(inner.nodes.begin(), inner.nodes.end()), inner.nodes.end());
+  mesh.regions.push_back(inner);
+  Log log;
+  log.silent = true;
+  const std::string refused =
+      "is inside the body (between two elements); a pressure must be "
+      "applied on the outer surface of the body";
+  std::string key;  // where the whole mesh's message points
+  try {
+    Model whole(spec, Mesh(mesh), log);
+    ADD_FAILURE() << "the whole mesh's model took a load inside the body";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.message().find(refused), std::string::npos) << e.what();
+    key = e.where().key;
+  }
+  if (ranks == 1) return;
+  // Each rank's part holds a face with one of its cells: only join can tell.
+  Model part(spec, extract_part(mesh, partition_from(mesh, owner, ranks, par::rank())), log);
+  try {
+    part.join();
+    ADD_FAILURE() << "the parts took a load inside the body";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.message().find(refused), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().key, key) << e.what();
+  }
 }
