@@ -217,6 +217,17 @@ struct Loaded {
   std::optional<CheckpointMesh> whole_mesh;  // root's record of it on a distributed mesh
 };
 
+/// The log's line on a distributed mesh's parts (`how`: words after the rank count).
+/// Collective.
+std::string describe_parts(const Model& m, const char* how) {
+  const Partition& p = m.partition();
+  return fmt::format(
+      "distributed mesh: {} ranks,{} {} .. {} elements and {} .. {} nodes per rank (owned; "
+      "{} .. {} with the ghosts)",
+      par::size(), how, par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
+      par::max(p.owned_nodes), par::min(m.mesh().n_nodes()), par::max(m.mesh().n_nodes()));
+}
+
 /// The distributed way (docs/parallel.md, "Distributing the mesh"): root reads and checks the
 /// whole model, as a serial run does, records what the log and the checkpoints need of it,
 /// splits it and sends each rank its part; each rank binds the case to its part. Returns 0, or
@@ -263,13 +274,7 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
   l.model->share_contact(contact_points);
   contact_points = {};
   l.model->join();
-  const Partition& p = l.model->partition();
-  out.parts_line = fmt::format(
-      "distributed mesh: {} ranks, {} .. {} elements and {} .. {} nodes per rank "
-      "(owned; {} .. {} with the ghosts)",
-      par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
-      par::max(p.owned_nodes), par::min(l.model->mesh().n_nodes()),
-      par::max(l.model->mesh().n_nodes()));
+  out.parts_line = describe_parts(*l.model, "");
   return 0;
 }
 
@@ -315,12 +320,7 @@ int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLoca
       fmt::format("{}; {} unknowns", describe_counts(m.global_nodes(), m.global_cells(), by_type),
                   m.global_free());
   out.whole_mesh = broadcast_mesh_record(checkpoint_mesh_of_parts(m));
-  const Partition& p = m.partition();
-  out.parts_line = fmt::format(
-      "distributed mesh: {} ranks, each read its file of the split mesh; {} .. {} elements and "
-      "{} .. {} nodes per rank (owned; {} .. {} with the ghosts)",
-      par::size(), par::min(p.owned_cells), par::max(p.owned_cells), par::min(p.owned_nodes),
-      par::max(p.owned_nodes), par::min(m.mesh().n_nodes()), par::max(m.mesh().n_nodes()));
+  out.parts_line = describe_parts(m, " each read its file of the split mesh;");
   return together([&] {
     if (par::root()) check_output_space(m, dir, dir_where, log);
   });

@@ -111,6 +111,58 @@ void CheckpointFile::put(const std::string& name, std::string text) {
   records_[name] = std::move(r);
 }
 
+namespace {
+/// A record's head in the file: its name's length, its name, its type and its count.
+std::string head_of(const std::string& name, const CheckpointFile::Record& r) {
+  std::string head;
+  append<std::uint32_t>(head, static_cast<std::uint32_t>(name.size()));
+  head += name;
+  append<std::uint8_t>(head, static_cast<std::uint8_t>(r.type));
+  append<std::uint64_t>(head, r.count());
+  return head;
+}
+
+/// The bytes of a record's values held in memory (a distributed record's: this rank's runs).
+std::string_view values_of(const CheckpointFile::Record& r) {
+  switch (r.type) {
+    case CheckpointFile::Type::f64:
+      return {reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size()};
+    case CheckpointFile::Type::i64:
+      return {reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size()};
+    case CheckpointFile::Type::u8:
+      return {reinterpret_cast<const char*>(r.u8.data()), r.u8.size()};
+    case CheckpointFile::Type::text:
+      return r.text;
+  }
+  return {};
+}
+
+/// Reads `n` bytes at `at` of an open file into `out`; false on a read error or a short file.
+bool read_at(int fd, std::uint64_t at, std::size_t n, char* out) {
+  for (std::size_t done = 0; done < n;) {
+    const ssize_t k = ::pread(fd, out + done, n - done, static_cast<off_t>(at + done));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    done += static_cast<std::size_t>(k);
+  }
+  return true;
+}
+
+/// The CRC-32 of an open file's bytes from `from` to `end`, read in pieces of 4 MiB; nullopt on
+/// a read error.
+std::optional<std::uint32_t> crc_of_file(int fd, std::uint64_t from, std::uint64_t end) {
+  std::string chunk(std::size_t{4} << 20, '\0');
+  std::uint32_t crc = 0;
+  for (std::uint64_t at = from; at < end;) {
+    const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(chunk.size(), end - at));
+    if (!read_at(fd, at, n, chunk.data())) return std::nullopt;
+    crc = crc32(std::string_view(chunk.data(), n), crc);
+    at += n;
+  }
+  return crc;
+}
+}  // namespace
+
 void CheckpointFile::put_runs(const std::string& name, std::uint64_t total,
                               std::vector<long long> start, std::vector<int> length,
                               std::vector<double> values) {
@@ -145,28 +197,9 @@ void CheckpointFile::write_together(const std::string& path) const {
   if (par::root()) {
     std::uint64_t at = header_size;
     for (const auto& [name, r] : records_) {
-      std::string head;
-      append<std::uint32_t>(head, static_cast<std::uint32_t>(name.size()));
-      head += name;
-      append<std::uint8_t>(head, static_cast<std::uint8_t>(r.type));
-      append<std::uint64_t>(head, r.count());
-      own.emplace_back(at, std::move(head));
+      own.emplace_back(at, head_of(name, r));
       at += own.back().second.size();
-      std::string_view values;
-      switch (r.type) {
-        case Type::f64:
-          values = {reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size()};
-          break;
-        case Type::i64:
-          values = {reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size()};
-          break;
-        case Type::u8:
-          values = {reinterpret_cast<const char*>(r.u8.data()), r.u8.size()};
-          break;
-        case Type::text:
-          values = r.text;
-          break;
-      }
+      const std::string_view values = values_of(r);
       if (r.runs) {
         append<std::uint64_t>(value_at, at);
         at += 8 * r.total;
@@ -212,17 +245,11 @@ void CheckpointFile::write_together(const std::string& path) const {
     throw OutputError(fmt::format("cannot {} {}: {}", what, path, why));
   };
   if (fd < 0) fail("open");
-  std::string chunk(std::size_t{4} << 20, '\0');
-  std::uint32_t crc = 0;
-  for (off_t at = header_size;;) {
-    const ssize_t n = ::pread(fd, chunk.data(), chunk.size(), at);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) fail("read back");
-    if (n == 0) break;
-    crc = crc32(std::string_view(chunk.data(), static_cast<std::size_t>(n)), crc);
-    at += n;
-  }
-  if (::pwrite(fd, &crc, sizeof crc, 24) != static_cast<ssize_t>(sizeof crc)) fail("write");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) fail("read back");
+  const auto crc = crc_of_file(fd, header_size, static_cast<std::uint64_t>(st.st_size));
+  if (!crc) fail("read back");
+  if (::pwrite(fd, &*crc, sizeof *crc, 24) != static_cast<ssize_t>(sizeof *crc)) fail("write");
   if (::fsync(fd) != 0) fail("flush");
   if (::close(fd) != 0)
     throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
@@ -266,15 +293,15 @@ const CheckpointFile::Record& CheckpointFile::get(const std::string& name, Type 
 const std::vector<double>& CheckpointFile::f64(const std::string& name, long long expected) const {
   const Record& r = get(name, Type::f64, expected);
   if (r.in_file && r.f64.size() != r.file_count) {  // read whole on first use
-    std::vector<long long> start{0};
-    std::vector<int> length;
-    for (std::uint64_t left = r.file_count; left > 0;) {  // runs an int counts
-      length.push_back(static_cast<int>(std::min<std::uint64_t>(left, 1u << 30)));
-      left -= static_cast<std::uint64_t>(length.back());
-      if (left > 0) start.push_back(start.back() + length.back());
-    }
-    if (length.empty()) start.clear();
-    r.f64 = f64_runs(name, expected, start, length);
+    std::vector<double> all(r.file_count);
+    const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+    const bool ok =
+        fd >= 0 && read_at(fd, r.file_offset, 8 * all.size(), reinterpret_cast<char*>(all.data()));
+    if (fd >= 0) ::close(fd);
+    if (!ok)
+      throw InputError(SourceLocation{label_, 0, 0, name},
+                       "cannot read the checkpoint (a read failed or came up short)");
+    r.f64 = std::move(all);
   }
   return r.f64;
 }
@@ -291,28 +318,9 @@ const std::string& CheckpointFile::text(const std::string& name) const {
 }
 
 void CheckpointFile::payload(const std::function<void(std::string_view)>& piece) const {
-  std::string head;
   for (const auto& [name, r] : records_) {
-    head.clear();
-    append<std::uint32_t>(head, static_cast<std::uint32_t>(name.size()));
-    head += name;
-    append<std::uint8_t>(head, static_cast<std::uint8_t>(r.type));
-    append<std::uint64_t>(head, r.count());
-    piece(head);
-    switch (r.type) {
-      case Type::f64:
-        piece({reinterpret_cast<const char*>(r.f64.data()), 8 * r.f64.size()});
-        break;
-      case Type::i64:
-        piece({reinterpret_cast<const char*>(r.i64.data()), 8 * r.i64.size()});
-        break;
-      case Type::u8:
-        piece({reinterpret_cast<const char*>(r.u8.data()), r.u8.size()});
-        break;
-      case Type::text:
-        piece(r.text);
-        break;
-    }
+    piece(head_of(name, r));
+    piece(values_of(r));
   }
 }
 
@@ -453,19 +461,6 @@ CheckpointFile CheckpointFile::parse_from(const Source& src, const std::string& 
   return f;
 }
 
-namespace {
-/// Reads `n` bytes at `at` of an open file into `out`; false on a read error or a short file.
-bool read_at(int fd, std::uint64_t at, std::size_t n, char* out) {
-  for (std::size_t done = 0; done < n;) {
-    const ssize_t k = ::pread(fd, out + done, n - done, static_cast<off_t>(at + done));
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) return false;
-    done += static_cast<std::size_t>(k);
-  }
-  return true;
-}
-}  // namespace
-
 CheckpointFile CheckpointFile::read_together(const std::string& path, std::uint64_t in_file_from) {
   const SourceLocation where{path, 0, 0, ""};
   std::string error;
@@ -484,15 +479,11 @@ CheckpointFile CheckpointFile::read_together(const std::string& path, std::uint6
         throw InputError(where, "cannot read the checkpoint (a read failed or came up short)");
       return std::string_view(buffer);
     };
-    // Root checks the checksum, reading the file in pieces of 4 MiB; the others trust it.
+    // Root checks the checksum, reading the file in pieces; the others trust it.
     src.crc_from = [&](std::uint64_t at) -> std::optional<std::uint32_t> {
       if (!par::root()) return std::nullopt;
-      std::uint32_t crc = 0;
-      for (std::uint64_t k = at; k < src.total;) {
-        const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(4u << 20, src.total - k));
-        crc = crc32(src.fetch(k, n), crc);
-        k += n;
-      }
+      const auto crc = crc_of_file(fd, at, src.total);
+      if (!crc) throw InputError(where, "cannot read the checkpoint (a read failed)");
       return crc;
     };
     f = parse_from(src, path, in_file_from);
@@ -502,13 +493,8 @@ CheckpointFile CheckpointFile::read_together(const std::string& path, std::uint6
   }
   if (fd >= 0) ::close(fd);
   // Root's verdict first (the checksum is its alone), then the lowest rank that failed.
-  int first = par::min(error.empty() ? INT_MAX : par::rank());
-  if (first == INT_MAX) return f;
-  if (first != 0) {
-    if (par::rank() == first) par::send_bytes(0, error);
-    if (par::root()) error = par::receive_bytes(first);
-  }
-  par::broadcast(error);
+  error = par::first_error(std::move(error));
+  if (error.empty()) return f;
   throw InputError(where, error);
 }
 

@@ -244,15 +244,18 @@ std::string write_file_together(const std::string& path, const std::vector<FileP
   }
   if (fd >= 0 && ::fsync(fd) != 0 && error.empty()) error = std::strerror(errno);
   if (fd >= 0 && ::close(fd) != 0 && error.empty()) error = std::strerror(errno);
-  // One rank's failure is every rank's, with the lowest failing rank's text.
-  const int first = min(error.empty() ? INT_MAX : rank());
+  return first_error(error);
+}
+
+std::string first_error(std::string mine) {
+  const int first = min(mine.empty() ? INT_MAX : rank());
   if (first == INT_MAX) return "";
   if (first != 0) {
-    if (rank() == first) send_bytes(0, error);
-    if (root()) error = receive_bytes(first);
+    if (rank() == first) send_bytes(0, mine);
+    if (root()) mine = receive_bytes(first);
   }
-  broadcast(error);
-  return error;
+  broadcast(mine);
+  return mine;
 }
 
 void sum_to_root(std::span<double> v) {

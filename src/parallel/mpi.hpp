@@ -91,6 +91,9 @@ void sum_to_root(std::span<double> v);
 void rethrow_anywhere(const std::exception_ptr& error, const SourceLocation& where,
                       const std::string& elsewhere);
 
+/// The failure of the lowest rank that had one (`mine`: this rank's text, "" when none), on
+/// every rank; "" when no rank failed. Collective.
+std::string first_error(std::string mine);
 /// Ends every rank of the run at once (MPI_Abort) with exit status `code`; on one process,
 /// std::exit(code).
 [[noreturn]] void abort_all(int code);
