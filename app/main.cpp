@@ -247,14 +247,12 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
     return code;
   std::unique_ptr<Mesh> mesh;
   std::vector<int> owner;
-  std::vector<std::vector<ContactPoint>> contact_points;  // root's, of the whole model
   if (par::root()) {
     const Model& m = *whole.model;
     out.mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
     owner = split_cells(m.mesh(), par::size());
     out.whole_mesh = checkpoint_mesh(m.mesh());
     out.contact_lines = describe_contact(m);
-    for (const ContactBody& b : m.contacts()) contact_points.push_back(b.points);
     mesh = std::make_unique<Mesh>(std::move(*whole.model).take_mesh());
     whole.model.reset();
     l.spec = std::move(whole.spec);
@@ -271,8 +269,6 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
         l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
       }))
     return code;
-  l.model->share_contact(contact_points);
-  contact_points = {};
   l.model->join();
   out.parts_line = describe_parts(*l.model, "");
   return 0;
@@ -321,6 +317,7 @@ int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLoca
                   m.global_free());
   out.whole_mesh = broadcast_mesh_record(checkpoint_mesh_of_parts(m));
   out.parts_line = describe_parts(m, " each read its file of the split mesh;");
+  out.contact_lines = describe_contact(m);
   return together([&] {
     if (par::root()) check_output_space(m, dir, dir_where, log);
   });
@@ -389,17 +386,13 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     return 1;
   }
   Loaded loaded;
-  // A split mesh on as many ranks as files: each rank reads its own. Contact binds on the
-  // whole model (Model::share_contact): root reads the files then, as on other rank counts.
-  const bool own_files =
-      distribute && spec->mesh.split && spec->mesh.pieces == par::size() && spec->contact.empty();
+  // A split mesh on as many ranks as files: each rank reads its own.
+  const bool own_files = distribute && spec->mesh.split && spec->mesh.pieces == par::size();
   std::string split_line;  // how a split mesh was read, where not each rank its own file
   if (distribute && spec->mesh.split && !own_files)
     split_line = fmt::format(
-        "split mesh: root read its {} files and sent each rank its part ({})", spec->mesh.pieces,
-        spec->mesh.pieces != par::size()
-            ? fmt::format("{} files on {} ranks", spec->mesh.pieces, par::size())
-            : std::string("contact binds on the whole mesh"));
+        "split mesh: root read its {} files and sent each rank its part ({} files on {} ranks)",
+        spec->mesh.pieces, spec->mesh.pieces, par::size());
   if (int code = own_files    ? load_split(std::move(spec), dir, dir_where, log, loaded)
                  : distribute ? load_distributed(std::move(spec), dir, dir_where, log, loaded)
                               : load_replicated(std::move(spec), dir, dir_where, log, loaded))

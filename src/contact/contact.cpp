@@ -133,27 +133,29 @@ std::span<const FaceEdge> quadratic_edges(CellType t) {
 
 }  // namespace
 
-std::vector<ContactPoint> contact_points(const Mesh& mesh, const Region& region,
-                                         const SourceLocation& where) {
+ContactFaceSums contact_face_sums(const Mesh& mesh, const Region& region,
+                                  std::span<const int> nodes, const SourceLocation& where) {
   constexpr double alpha = quadratic_face_alpha;
   std::unordered_map<int, int> index;  // mesh node -> contact point
-  std::vector<ContactPoint> pts(region.nodes.size());
-  for (std::size_t i = 0; i < region.nodes.size(); ++i) {
-    index.emplace(region.nodes[i], static_cast<int>(i));
-    pts[i].node = region.nodes[i];
-    pts[i].term_node[0] = region.nodes[i];
+  ContactFaceSums sums;
+  std::vector<ContactPoint>& pts = sums.points;
+  pts.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    index.emplace(nodes[i], static_cast<int>(i));
+    pts[i].node = nodes[i];
+    pts[i].term_node[0] = nodes[i];
   }
-  std::vector<double> size2(pts.size(), 0.0);
-  std::vector<int> n_faces(pts.size(), 0);
+  sums.size2.assign(pts.size(), 0.0);
+  sums.faces.assign(pts.size(), 0.0);
   for (int f : region.cells) {
-    const auto nodes = mesh.faces.nodes(f);
+    const auto face = mesh.faces.nodes(f);
     const CellType type = mesh.faces.type[f];
     const auto edges = quadratic_edges(type);
     for (const FaceEdge& e : edges) {  // ũ_m = (u_m − α(u_a + u_b)) / (1 − 2α)
-      ContactPoint& p = pts[index.at(nodes[e.mid])];
+      ContactPoint& p = pts[index.at(face[e.mid])];
       p.terms = 3;
-      p.term_node[1] = nodes[e.a];
-      p.term_node[2] = nodes[e.b];
+      p.term_node[1] = face[e.a];
+      p.term_node[2] = face[e.b];
       p.term_coef[0] = 1 / (1 - 2 * alpha);
       p.term_coef[1] = p.term_coef[2] = -alpha / (1 - 2 * alpha);
     }
@@ -161,40 +163,49 @@ std::vector<ContactPoint> contact_points(const Mesh& mesh, const Region& region,
     // Ñ_m = (1 − 2α) N_m.
     const ReferenceTable& tab = reference_table(type);
     Vec3 x[max_cell_nodes];
-    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    for (std::size_t a = 0; a < face.size(); ++a) x[a] = mesh.x[face[a]];
     double w[max_cell_nodes] = {};
     double area = 0;
     for (int q = 0; q < tab.n_points; ++q) {
       const double da =
-          tab.weights[q] * face_normal(tab, q, std::span<const Vec3>(x, nodes.size())).norm();
+          tab.weights[q] * face_normal(tab, q, std::span<const Vec3>(x, face.size())).norm();
       const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
       double Nt[max_cell_nodes];
-      for (std::size_t a = 0; a < nodes.size(); ++a) Nt[a] = N[a];
+      for (std::size_t a = 0; a < face.size(); ++a) Nt[a] = N[a];
       for (const FaceEdge& e : edges) {
         Nt[e.mid] = (1 - 2 * alpha) * N[e.mid];
         Nt[e.a] += alpha * N[e.mid];
         Nt[e.b] += alpha * N[e.mid];
       }
-      for (std::size_t a = 0; a < nodes.size(); ++a) w[a] += Nt[a] * da;
+      for (std::size_t a = 0; a < face.size(); ++a) w[a] += Nt[a] * da;
       area += da;
     }
     if (!(area > 0))
       throw InputError(where, fmt::format("face {} of region '{}' has zero area",
                                           mesh.faces.tag[f], region.name));
-    for (std::size_t a = 0; a < nodes.size(); ++a) {
-      const int i = index.at(nodes[a]);
+    for (std::size_t a = 0; a < face.size(); ++a) {
+      const int i = index.at(face[a]);
       pts[i].area += w[a];
-      size2[i] += area;
-      ++n_faces[i];
+      sums.size2[i] += area;
+      sums.faces[i] += 1;
     }
   }
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    ContactPoint& p = pts[i];
-    p.size = n_faces[i] > 0 ? std::sqrt(size2[i] / n_faces[i]) : 0.0;
+  return sums;
+}
+
+std::vector<ContactPoint> finish_contact_points(const Mesh& mesh, ContactFaceSums sums) {
+  for (std::size_t i = 0; i < sums.points.size(); ++i) {
+    ContactPoint& p = sums.points[i];
+    p.size = sums.faces[i] > 0 ? std::sqrt(sums.size2[i] / sums.faces[i]) : 0.0;
     p.x = Vec3::Zero();
     for (int k = 0; k < p.terms; ++k) p.x += p.term_coef[k] * mesh.x[p.term_node[k]];
   }
-  return pts;
+  return std::move(sums.points);
+}
+
+std::vector<ContactPoint> contact_points(const Mesh& mesh, const Region& region,
+                                         const SourceLocation& where) {
+  return finish_contact_points(mesh, contact_face_sums(mesh, region, region.nodes, where));
 }
 
 }  // namespace hencky

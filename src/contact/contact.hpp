@@ -27,6 +27,7 @@
 // uniform pressure, equal to p·∫Ñ_i dA, and the nodal forces on the mesh are f = T̃ᵀF̃. Linear
 // faces have ũ = u.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -152,6 +153,19 @@ struct Region;
 /// Throws InputError (at `where`) for a region with a face whose area is zero.
 std::vector<ContactPoint> contact_points(const Mesh& mesh, const Region& region,
                                          const SourceLocation& where);
+
+/// What a region's faces give the points at `nodes` (every node of the faces, and maybe more:
+/// a part of a distributed mesh has points whose faces are on other ranks): each point's
+/// tributary area and mid-edge terms, and the sums that make its element size, the faces'
+/// Σ area (size2) and their number (faces). Sums of several parts' faces add up.
+struct ContactFaceSums {
+  std::vector<ContactPoint> points;
+  std::vector<double> size2, faces;
+};
+ContactFaceSums contact_face_sums(const Mesh& mesh, const Region& region,
+                                  std::span<const int> nodes, const SourceLocation& where);
+/// The points of (summed) face sums: their element sizes and undeformed positions.
+std::vector<ContactPoint> finish_contact_points(const Mesh& mesh, ContactFaceSums sums);
 
 /// α of the quadratic-face transformation (see the header comment).
 inline constexpr double quadratic_face_alpha = 0.2;

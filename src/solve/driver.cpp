@@ -37,18 +37,28 @@ std::vector<std::string> describe_contact(const Model& model) {
     static const char* shapes[] = {"a plane", "a sphere", "a cylinder", "an STL body"};
     const ContactSpec& s = *b.spec;
     double k_lo = INFINITY, k_hi = 0;
-    int touching = 0, quadratic = 0;
+    long long points = 0, touching = 0, quadratic = 0;
+    const MeshPart* part = model.part();  // each point counted by its node's owner
     for (std::size_t i = 0; i < b.points.size(); ++i) {
+      if (part && part->node_owner[b.points[i].node] != par::rank()) continue;
       const double k = b.initial_kappa(static_cast<int>(i));
       k_lo = std::min(k_lo, k);
       k_hi = std::max(k_hi, k);
+      ++points;
       touching += b.touches_at_start(static_cast<int>(i));
       quadratic += b.points[i].terms == 3;
     }
-    std::string line = fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on {}",
-                                   s.name, b.points.size(), s.nodes, touching,
-                                   quadratic ? fmt::format(", {} mid-edge", quadratic) : "",
-                                   shapes[static_cast<int>(s.shape)]);
+    if (part) {
+      points = par::sum(points);
+      touching = par::sum(touching);
+      quadratic = par::sum(quadratic);
+      par::min_in_place(std::span<double>(&k_lo, 1));
+      par::max_in_place(std::span<double>(&k_hi, 1));
+    }
+    std::string line =
+        fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on {}", s.name, points,
+                    s.nodes, touching, quadratic ? fmt::format(", {} mid-edge", quadratic) : "",
+                    shapes[static_cast<int>(s.shape)]);
     line += s.stiffness ? fmt::format("; κ = {:.3g}", *s.stiffness)
                         : fmt::format("; κ auto {:.3g} .. {:.3g}", k_lo, k_hi);
     line += fmt::format(", allowed penetration {:g} of the element size", s.penetration);

@@ -82,11 +82,6 @@ class Model {
   /// model's checks with the same messages as a whole mesh's: every rank throws the same
   /// InputError. Collective.
   void join();
-  /// A part model's contact points, from the whole model's on root (`whole`: each surface's
-  /// points, ignored on the other ranks). Each rank keeps the points whose node its part
-  /// holds, with the whole mesh's areas, element sizes and stiffness, so that every copy of a
-  /// point is the serial run's. Collective; nothing to do on a whole mesh.
-  void share_contact(const std::vector<std::vector<ContactPoint>>& whole);
   /// The mesh, moved out: what the rank that read it sends out in parts once the whole model
   /// has checked it. The model is of no use after.
   Mesh take_mesh() && { return std::move(mesh_); }
@@ -213,6 +208,15 @@ class Model {
   void check_temperature_range();
   void bind_outputs();
   void bind_contact();
+  /// A part's contact points, bound together (join): every copy of a point has the whole
+  /// model's area, element size and stiffness. Collective.
+  void bind_contact_of_part();
+  /// Adds each point's stiffness scale over this mesh's cells at it.
+  void add_contact_stiffness(ContactBody& body) const;
+  /// Sets each point's starting gap, and returns the message for the first point (of those
+  /// whose node `node_owner` gives this rank, when given) that starts inside the surface by
+  /// more than allowed, or "".
+  std::string start_contact(ContactBody& body, const std::vector<int>* node_owner) const;
   void bind_heat();
   /// The volume cell that owns boundary face f (holds all its corner nodes); -1 when none
   /// does, -2 when two do (an inner face). nc_*: node_cell_incidence of the cells.

@@ -263,6 +263,28 @@ else bad "parallel ball-indentation: the log does not name the 551 contact nodes
 ex_check "parallel ball-indentation: the contact force on 3 ranks = serial to 1e-8" \
   "$d/mumps3/history.csv" \
   'close(at(1.0)["contact.ball.resultant.z"], [float(r["contact.ball.resultant.z"]) for r in csv.DictReader(open(sys.argv[1].replace("mumps3", "direct"))) if float(r["time"]) == 1.0][0], 1e-8)'
+# Contact on a mesh split into files, each rank reading its own: the ranks bind the contact
+# points together (a node's faces may all be in another rank's file), and a checkpoint's
+# contact states pass to one rank reading the files together.
+sd="$work/split-contact"
+rm -rf "$sd" && mkdir -p "$sd" && cp "$d/block.geo" "$sd/"
+gmsh -3 -order 2 "$sd/block.geo" -format msh41 -o "$sd/plain.msh" >/dev/null 2>&1 &&
+  gmsh -3 -order 2 -part 3 -part_split "$sd/block.geo" -format msh41 -o "$sd/b.msh" \
+    >/dev/null 2>&1 || bad "split contact: gmsh could not write the meshes"
+sed -E "s#^mesh: .*#mesh: {file: plain.msh}#" "$d/case-direct.yaml" >"$sd/plain.yaml"
+sed -E "s#^mesh: .*#mesh: {file: b.msh, split: true}#" "$d/case-direct.yaml" >"$sd/split.yaml"
+expect "split contact: the mesh in one file, serial" 0 "" -- run "$sd/plain.yaml" -o "$sd/plain" --quiet
+mpi_expect "split contact: 3 files on 3 ranks, each reads its own" 0 \
+  "contact 'ball': 551 nodes of 'top' \(1 touching at t = 0, 401 mid-edge\)" 3 -- \
+  run "$sd/split.yaml" -o "$sd/own3"
+same "split contact: ... = the mesh in one file to 1e-10" "$sd/plain" "$sd/own3" 1e-10 \
+  displacement,stress,contact_pressure
+same_history "split contact: ... and its history.csv to 1e-10" "$sd/plain" "$sd/own3" 1e-10 \
+  '^$'
+expect "split contact: the 3-rank run's checkpoint at t = 1 restarts on one rank" 0 "restart: from" -- \
+  run "$sd/split.yaml" -o "$sd/own3-from1" --restart "$sd/own3" --from 1.0
+same "split contact: ... = the 3-rank run to 1e-10" "$sd/own3" "$sd/own3-from1" 1e-10 \
+  displacement,stress,contact_pressure
 
 # --- Anderson mixing on ranks (acceleration: auto): the least squares of initial-stress works on
 # the displacements, whole on every rank; that of initial-strain on the points' initial strains,
