@@ -123,6 +123,11 @@ class Equilibrium {
   bool mix_ = false;       ///< solver.acceleration resolved: Anderson mixing of the iterates
   bool elastic_start_ = true;  ///< the first solve of a step that yields points is elastic
   int max_iterations_ = 50;  ///< solver.max_iterations resolved
+  /// The step's iterates' worst measure over the tolerance (converging_on's history).
+  std::vector<double> distances_;
+  /// At or past the iteration limit: true while the step may go on (its measures falling
+  /// steadily enough to meet the tolerance before twice the limit).
+  bool converging_on(const StepOutcome& out) const;
   // solver.line_search resolved; the line search's evaluation of u + δ when it took δ whole
   // (the next iterate's, without contact), and the iterate it searched from
   bool line_search_ = false;

@@ -211,7 +211,12 @@ class VariableStiffness final : public Scheme {
       change = new_tan - it.tan_beta;
       stress_form = change * it.secant_change < 0 &&
                     std::abs(it.secant_change) > 1e-6 * std::abs(it.tan_beta);
+      // A negative secant (the point starts the step above the curve, below) sets λ off the
+      // curve's side in (2.34) and makes D̃ indefinite; the stress form's iterate does not
+      // depend on the slope: the point takes it (both forms have the curve as fixed point).
+      stress_form = stress_form || new_tan < 0;
     }
+    double matrix_tan = new_tan;  // the slope of D̃ for the next solve
     if (stress_form) {  // (2.33)
       const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
       if (!defects_set) {  // not where the strain form gave them (a point turning now)
@@ -220,12 +225,21 @@ class VariableStiffness final : public Scheme {
       }
       new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
       lambda = a.xt - (ph.value - a.q0) / three_g;
+      // A stress at t above the curve along this step's direction Z makes the secant
+      // negative for the increments that do not reach the curve again, and D̃ indefinite (the
+      // matrix failed to factorize: tests/cli/inputs/issue16/indentation-unload). It happens
+      // where an earlier step's stress turned away from its Z, as under an indenter: the
+      // stress form puts σ's component along that Z on the curve, so the von Mises stress
+      // σ̃(t) = Zᵀσ(t) of the next step's Z lies above it. The iterate above is the curve's
+      // all the same (the point relaxes onto it along Z); only the matrix needs a slope, and
+      // the curve's own slope there is the secant's limit from a point on the curve. The
+      // secant itself stays the scheme's memory: Δσ̃ of the next iterate (the measure) is
+      // the stress change it gives.
+      matrix_tan = new_tan < 0 ? ph.slope : new_tan;
     }
-    // A stress at t above the curve along this step's direction Z (left by an earlier step
-    // whose stress turned away from its Z, as under an indenter) makes the secant negative
-    // and D̃ indefinite: the scheme has no answer for the step.
-    u.negative_secant = new_tan < 0;
-    u.tangent = d_tilde(k1, a.z, new_tan);
+    // A softening curve (a negative slope) leaves D̃ indefinite: the scheme has no answer.
+    u.negative_secant = matrix_tan < 0;
+    u.tangent = d_tilde(k1, a.z, matrix_tan);
     finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
     u.next.stress_form = stress_form;
     u.next.secant_change = change;

@@ -75,7 +75,11 @@ done
 # The initial-stress schemes converge linearly with their one matrix: with 50 iterations a step
 # (the limit for every scheme before max_iterations: auto gave these 200) they were cut back
 # in steps that were converging (182 iterations and one cut-back; 197 and two).
-for scheme in newton initial-stress initial-stress-stiffness; do
+# variable-stiffness reached its limit of 50 at a residual of 1.2e-5, still falling, and was
+# cut back once in each form: with the limit that goes on while the measures fall steadily
+# (Equilibrium::converging_on) it is not.
+for scheme in newton initial-stress initial-stress-stiffness variable-stiffness \
+              variable-stiffness/strain; do
   cv_run unload-all "$scheme"
   ex_check "unload-all, $scheme: every load gone, the support holds no force" "$s" \
     'abs(s["reactions"]["z1"]["z"]) < 1e-6 * 25e3'
