@@ -580,7 +580,8 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   nodal("equilibrium.last_du", du, 3);
   f.put("equilibrium.last_dt", eq.last_dt);
   f.put("equilibrium.factorized", static_cast<std::int64_t>(eq.factorized));
-  const bool tangents = !eq.tangents.empty();
+  // A rank whose part holds no cell (more ranks than cells) has no tangents of its own.
+  const bool tangents = par::any(!eq.tangents.empty());
   f.put("equilibrium.has_tangents", static_cast<std::int64_t>(tangents));
   if (tangents) {
     put_points(f, "equilibrium.tangents", model, off, tangent_width,

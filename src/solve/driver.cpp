@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "linalg/petsc_solver.hpp"
 #include "linalg/serial_system.hpp"
@@ -69,6 +70,31 @@ std::vector<std::string> describe_contact(const Model& model) {
 
 namespace {
 
+/// The system of a model whose every displacement is prescribed (issue 23: a material-point
+/// test drives its elements through a strain history): no unknown, so nothing to assemble,
+/// factorize or solve. The step loop runs as usual: its iterates are the prescribed
+/// displacements, the point laws converge on them, and the reactions are the internal forces.
+class NoUnknowns final : public LinearSystem {
+ public:
+  explicit NoUnknowns(std::optional<std::vector<char>> own) : own_(std::move(own)) {
+    stats_.description = "none: every degree of freedom is prescribed";
+  }
+  void assemble_cells(const CellMatrix&) override {}
+  void keep_cells() override {}
+  bool restore_cells() override { return true; }
+  void add_block(int, int, const Mat3&) override {}
+  void factorize() override {}
+  void solve(std::span<const double>, std::span<double>) override {}
+  void set_relative_tolerance(double) override {}
+  std::vector<std::string> unused_options() const override { return {}; }
+  const std::vector<char>* own_cells() const override { return own_ ? &*own_ : nullptr; }
+  const LinearSolverStats& stats() const override { return stats_; }
+
+ private:
+  std::optional<std::vector<char>> own_;
+  LinearSolverStats stats_;
+};
+
 /// The case's back end for the system of `assembler` and `dofs` (the displacement's or the
 /// temperature's); `model` is given for the displacement only: it then logs the choice and
 /// holds the points of this rank's cells.
@@ -77,6 +103,16 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
                                           const std::string& petsc_options) {
   const SolverSpec& s = spec_model.spec().solver;
   const int ranks = par::size();
+  if (model && spec_model.global_free() == 0) {
+    log.info(
+        "linear solver: none, every degree of freedom is prescribed (the points follow the "
+        "prescribed displacements; the reactions are their internal forces)");
+    if (ranks == 1 || spec_model.part()) return std::make_unique<NoUnknowns>(std::nullopt);
+    Partition part = partition_mesh(spec_model.mesh(), ranks, par::rank());
+    std::vector<char> own = part.owned_cell;
+    model->set_partition(std::move(part));
+    return std::make_unique<NoUnknowns>(std::move(own));
+  }
   SolverSpec::Linear linear = s.linear;
   std::vector<std::int64_t> node_order;  // of the factor estimate, for the factorization
   if (linear == SolverSpec::Linear::automatic) {

@@ -842,7 +842,7 @@ void Equilibrium::factorize() {
         "initial-stress",
         e.what(), m_.materials()[cell.material].spec->name, cell.tag));
   }
-  ++factorizations_;
+  if (m_.global_free() > 0) ++factorizations_;  // none where every dof is prescribed
   factorized_ = true;
   timings_.factorization += seconds_since(t0);
 }

@@ -234,9 +234,6 @@ void Model::check_whole() const {
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
-  if (global_[2] == 0)
-    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
-                     "every degree of freedom is prescribed: there is nothing to solve");
   for (const HeatBoundarySpec& bc : case_->heat.boundary) {
     const Region& r = *mesh_.find_region(bc.region);
     if (bc.kind == HeatBoundarySpec::Kind::temperature) {
@@ -441,9 +438,6 @@ void Model::bind_boundary() {
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
-  if (dofs_.n_free == 0)
-    throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
-                     "every degree of freedom is prescribed: there is nothing to solve");
 }
 
 int Model::face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx) const {

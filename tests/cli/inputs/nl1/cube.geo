@@ -1,0 +1,13 @@
+SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 1, 1, 1};
+Transfinite Curve{:} = 2;
+Transfinite Surface{:};
+Recombine Surface{:};
+Transfinite Volume{1};
+Physical Volume("cube") = {1};
+Physical Surface("x0") = {1};
+Physical Surface("x1") = {2};
+Physical Surface("y0") = {3};
+Physical Surface("y1") = {4};
+Physical Surface("z0") = {5};
+Physical Surface("z1") = {6};
