@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -531,6 +532,37 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   return status;
 }
 
+/// hencky plot: the curves of a run's history.csv, drawn by scripts/plot_history.py with
+/// Debian's python3 and matplotlib (a plotting library, not pixels of ours). The script is the
+/// source tree's (HENCKY_SCRIPTS_DIR, where the binary was built) or share/hencky beside an
+/// installed binary. Replaces this process with the script's; returns only on failure.
+int plot(const std::vector<std::string>& args) {
+  std::vector<fs::path> candidates;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share/hencky/plot_history.py");
+  candidates.push_back(fs::path(HENCKY_SCRIPTS_DIR) / "plot_history.py");
+  const auto script = std::find_if(candidates.begin(), candidates.end(),
+                                   [](const fs::path& p) { return fs::exists(p); });
+  if (script == candidates.end()) {
+    std::cerr << "error: hencky plot: its script plot_history.py is neither in "
+              << candidates.front().parent_path().string() << " nor in " << HENCKY_SCRIPTS_DIR
+              << "\n";
+    return 1;
+  }
+  const char* python = "/usr/bin/python3";
+  std::vector<std::string> words = {python, script->string()};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  std::fflush(stdout);
+  execv(python, argv.data());
+  std::cerr << "error: hencky plot: cannot run " << python << " (" << std::strerror(errno)
+            << "): run scripts/setup.sh, which installs python3 and python3-matplotlib\n";
+  return 1;
+}
+
 int check(const std::string& case_path) {
   Log log;
   LoadedCase l = load_case(case_path, log);
@@ -609,11 +641,34 @@ int main(int argc, char** argv) {
   auto* check_cmd =
       app.add_subcommand("check", "read and validate a case and its mesh, solve nothing");
   check_cmd->add_option("case", case_path, "case file (YAML)")->required();
+  auto* plot_cmd = app.add_subcommand(
+      "plot", "curves of a run's history.csv as DIR/plot.png and DIR/plot.svg (matplotlib)");
+  std::string plot_dir, plot_x, plot_out;
+  std::vector<std::string> plot_y;
+  bool plot_log = false;
+  plot_cmd->add_option("dir", plot_dir, "a run's output directory (holds history.csv)")->required();
+  plot_cmd->add_option("--x", plot_x, "the column along x (default: time)");
+  plot_cmd->add_option("--y", plot_y,
+                       "columns along y, or shell patterns such as 'reaction.*.z' (default: "
+                       "reactions, contact forces, probes' von Mises stress and displacement)");
+  plot_cmd->add_flag("--log-y", plot_log, "logarithmic y axes (the residual, say)");
+  plot_cmd->add_option("-o,--output", plot_out, "PREFIX of PREFIX.png and PREFIX.svg");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : 1;
+  }
+  if (plot_cmd->parsed()) {
+    std::vector<std::string> args = {plot_dir};
+    if (!plot_x.empty()) args.insert(args.end(), {"--x", plot_x});
+    if (!plot_y.empty()) {
+      args.push_back("--y");
+      args.insert(args.end(), plot_y.begin(), plot_y.end());
+    }
+    if (plot_log) args.push_back("--log-y");
+    if (!plot_out.empty()) args.insert(args.end(), {"-o", plot_out});
+    return plot(args);
   }
   if (from_opt->count() > 0 && restart.empty()) {
     std::cerr << "error: '--from': a checkpoint's time goes with --restart DIR\n";

@@ -309,6 +309,21 @@ for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:in
     's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"]'
 done
 
+# --- More ranks than cells: a fully prescribed single hexahedron (NAFEMS NL1, issue 23) on 2
+# ranks, one of which holds no cell. Its checkpoint used to stop the distributed run with an
+# internal error and hang the replicated one (the points' tangents record, written by the rank
+# with points only).
+d="$work/parallel-nl1"
+rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/nl1/"* "$d/"
+sed -i -E "s/^  steps: 80$/  steps: 16/" "$d/case.yaml"
+expect "more ranks than cells: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
+mpi_expect "more ranks than cells: 2 ranks, one without a cell" 0 "" 2 -- \
+  run "$d/case.yaml" -o "$d/r2" --quiet
+same "more ranks than cells: ... = serial to 1e-12" "$d/r1" "$d/r2" 1e-12 displacement,stress
+mpi_expect "more ranks than cells: ... and restarts from its checkpoint at t = 4" 0 "" 2 -- \
+  run "$d/case.yaml" -o "$d/r2-from4" --quiet --restart "$d/r2" --from 4
+same "more ranks than cells: ... = serial to 1e-12" "$d/r1" "$d/r2-from4" 1e-12 displacement,stress
+
 # --- Errors under mpirun.
 d="$work/examples/lame-cylinder"
 sed -E 's/^  steps: 2/  stepz: 2/' "$d/case.yaml" >"$d/broken.yaml"

@@ -65,6 +65,4 @@ for h in 0 62.5e9; do
       "$nd/$scheme-$h-160" "$h"
   done
 done
-# On ranks: more ranks than cells (a rank holds no cell), the serial answer.
-mpi_expect "nl1: 2 ranks, one of them without a cell" 0 "" 2 -- run "$nd/newton-0-80.yaml" -o "$nd/ranks2" --quiet
-same "nl1: ... = serial to 1e-12" "$nd/newton-0-80" "$nd/ranks2" 1e-12 displacement,stress
+# On MPI ranks: tests/cli/cases/40_parallel.sh ("more ranks than cells").
