@@ -518,6 +518,16 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
                          {"solves", hs.n_solves},
                          {"iterations", hs.iterations}}}};
   }
+  // The short report a user reads first (issue 22): the largest values and where, the balance
+  // of reactions and loads, the contact forces and the time per phase.
+  summary["report"] = writer->report();
+  for (const std::string& line : writer->report_lines()) log.info("report: {}", line);
+  std::string phases;
+  for (const char* k : {"mesh", "setup", "assembly", "factorization", "solve", "material",
+                        "contact", "heat", "output"})
+    if (const double s = summary["wall_seconds"][k]; s >= 0.005)
+      phases += fmt::format("{}{} {:.2f}", phases.empty() ? "" : ", ", k, s);
+  log.info("report: time (s): {}", phases);
   writer->finish(summary);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            status == 0   ? "converged"

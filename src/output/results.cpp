@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "fem/reference_element.hpp"
+#include "material/elastic.hpp"
 #include "parallel/mesh_part.hpp"
 #include "parallel/mpi.hpp"
 
@@ -148,6 +149,20 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
     largest.insert(largest.end(), {t.max_penetration, t.max_penetration_relative, t.max_pressure});
   }
   sums.insert(sums.end(), probe_numbers.begin(), probe_numbers.end());
+  // The balance: each rank's own nodes' reactions, loads and contact forces.
+  double balance[10] = {};  // and Σ |F_int| over the nodes, the scale of the forces
+  const Mesh& mesh = model.mesh();
+  for (int n = 0; n < mesh.n_nodes(); ++n) {
+    if (part.node_owner[n] != part.rank) continue;
+    const std::size_t i = 3 * static_cast<std::size_t>(n);
+    for (int d = 0; d < 3; ++d) {
+      balance[d] += state.f_int[i + d] - state.f_ext[i + d] - state.f_contact[i + d];
+      balance[3 + d] += state.f_ext[i + d];
+      balance[6 + d] += state.f_contact[i + d];
+    }
+    balance[9] += Vec3(state.f_int[i], state.f_int[i + 1], state.f_int[i + 2]).norm();
+  }
+  sums.insert(sums.end(), balance, balance + 10);
   par::sum_to_root(std::span<double>(sums));
   par::max_in_place(std::span<double>(largest));
   const double* s = sums.data();
@@ -164,6 +179,43 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
   }
   out.probes.resize(probes.size());
   for (ProbeValues& v : out.probes) each_number(v, [&](double& x) { x = *s++; });
+  out.supports = Vec3(s[0], s[1], s[2]);
+  out.loads = Vec3(s[3], s[4], s[5]);
+  out.contact = Vec3(s[6], s[7], s[8]);
+  out.force_scale = s[9];
+  // The largest nodal values: each rank's over its own nodes, the largest of all on root (the
+  // lowest rank's where two are equal).
+  // Each as 5 numbers: the value, the node's number, its position.
+  std::array<double, 15> mine;
+  for (int k = 0; k < 3; ++k) mine[5 * k] = -1;
+  const bool plastic = !fields.nodal_eps_p_eq.empty();
+  for (int n = 0; n < mesh.n_nodes(); ++n) {
+    if (part.node_owner[n] != part.rank) continue;
+    const double v[3] = {von_mises(fields.nodal_stress[n]),
+                         Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]).norm(),
+                         plastic ? fields.nodal_eps_p_eq[n] : -1.0};
+    for (int k = 0; k < 3; ++k)
+      if (v[k] > mine[5 * k]) {
+        mine[5 * k] = v[k];
+        mine[5 * k + 1] = static_cast<double>(mesh.node_tag[n]);
+        for (int d = 0; d < 3; ++d) mine[5 * k + 2 + d] = mesh.x[n][d];
+      }
+  }
+  const std::string bytes(reinterpret_cast<const char*>(mine.data()), sizeof mine);
+  const std::vector<std::string> all =
+      par::size() > 1 ? par::gather_strings(bytes) : std::vector<std::string>{bytes};
+  StepValues::Largest* best[3] = {&out.von_mises, &out.displacement, &out.eps_p_eq};
+  for (const std::string& b : all) {
+    if (b.size() != sizeof mine) continue;  // not root
+    std::array<double, 15> theirs;
+    std::memcpy(theirs.data(), b.data(), sizeof theirs);
+    for (int k = 0; k < 3; ++k)
+      if (theirs[5 * k] > best[k]->value) {
+        best[k]->value = theirs[5 * k];
+        best[k]->node = std::lround(theirs[5 * k + 1]);
+        best[k]->x = Vec3(theirs[5 * k + 2], theirs[5 * k + 3], theirs[5 * k + 4]);
+      }
+  }
   return out;
 }
 
@@ -457,6 +509,89 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
                                   errno ? std::strerror(errno) : "the stream failed"));
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
   if (model_.has_heat()) final_values_["heat_flows"] = heat_json;
+  remember(report.time, values);
+}
+
+void ResultWriter::remember(double time, const StepValues& values) {
+  // A later step's value counts only when it exceeds the peak by more than round-off (a
+  // perfectly plastic point stays at σ_y to its last bits): the time is the first that reached it.
+  const auto keep = [&](Peak& peak, const StepValues::Largest& now) {
+    if (now.value > peak.at.value + 1e-12 * std::abs(peak.at.value)) peak = {now, time};
+  };
+  keep(peak_von_mises_, values.von_mises);
+  keep(peak_displacement_, values.displacement);
+  keep(peak_eps_p_eq_, values.eps_p_eq);
+  peak_contact_.resize(values.contacts.size(), {-INFINITY, 0.0});
+  for (std::size_t b = 0; b < values.contacts.size(); ++b)
+    if (values.contacts[b].force > peak_contact_[b].first)
+      peak_contact_[b] = {values.contacts[b].force, time};
+  balance_time_ = time;
+  supports_ = values.supports;
+  loads_ = values.loads;
+  contact_ = values.contact;
+  force_scale_ = values.force_scale;
+}
+
+namespace {
+/// |R + P + C| over the largest of the three and of the nodes' internal forces Σ|F_int| (the
+/// scale where the loads vanish and the reactions are round-off): how far the balance is from
+/// zero.
+double imbalance(const Vec3& r, const Vec3& p, const Vec3& c, double forces) {
+  const double scale = std::max({r.norm(), p.norm(), c.norm(), forces});
+  return scale > 0 ? (r + p + c).norm() / scale : 0.0;
+}
+nlohmann::json vec(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+}  // namespace
+
+nlohmann::json ResultWriter::report() const {
+  nlohmann::json j = nlohmann::json::object();
+  if (balance_time_ < 0) return j;  // no step converged
+  const auto peak = [&](const Peak& p) -> nlohmann::json {
+    return {
+        {"value", p.at.value}, {"node", p.at.node}, {"position", vec(p.at.x)}, {"time", p.time}};
+  };
+  j["von_mises"] = peak(peak_von_mises_);
+  j["displacement"] = peak(peak_displacement_);
+  if (peak_eps_p_eq_.at.value >= 0) j["equivalent_plastic_strain"] = peak(peak_eps_p_eq_);
+  j["balance"] = {{"time", balance_time_},
+                  {"reactions", vec(supports_)},
+                  {"loads", vec(loads_)},
+                  {"contact", vec(contact_)},
+                  {"imbalance", imbalance(supports_, loads_, contact_, force_scale_)}};
+  for (std::size_t b = 0; b < peak_contact_.size(); ++b)
+    j["contact_force"][model_.contacts()[b].spec->name] = {{"value", peak_contact_[b].first},
+                                                           {"time", peak_contact_[b].second}};
+  return j;
+}
+
+std::vector<std::string> ResultWriter::report_lines() const {
+  std::vector<std::string> lines;
+  if (balance_time_ < 0) return lines;
+  const auto where = [](const Peak& p) {
+    return fmt::format("at node {} ({:.4g}, {:.4g}, {:.4g}), t = {:g}", p.at.node, p.at.x.x(),
+                       p.at.x.y(), p.at.x.z(), p.time);
+  };
+  lines.push_back(fmt::format("largest von Mises stress {:.4g} {}", peak_von_mises_.at.value,
+                              where(peak_von_mises_)));
+  lines.push_back(fmt::format("largest displacement {:.4g} {}", peak_displacement_.at.value,
+                              where(peak_displacement_)));
+  if (peak_eps_p_eq_.at.value >= 0)
+    lines.push_back(fmt::format("largest equivalent plastic strain {:.4g} {}",
+                                peak_eps_p_eq_.at.value, where(peak_eps_p_eq_)));
+  const auto v = [](const Vec3& x) {
+    return fmt::format("({:.4g}, {:.4g}, {:.4g})", x.x(), x.y(), x.z());
+  };
+  lines.push_back(fmt::format("balance at t = {:g}: reactions {} + loads {}{} = 0 to {:.1e}",
+                              balance_time_, v(supports_), v(loads_),
+                              peak_contact_.empty() ? "" : " + contact " + v(contact_),
+                              imbalance(supports_, loads_, contact_, force_scale_)));
+  for (std::size_t b = 0; b < peak_contact_.size(); ++b)
+    lines.push_back(fmt::format("contact '{}': largest force {:.4g} at t = {:g}",
+                                model_.contacts()[b].spec->name, peak_contact_[b].first,
+                                peak_contact_[b].second));
+  return lines;
 }
 
 void ResultWriter::step_done(const StepReport& report, const State& state,

@@ -69,6 +69,19 @@ struct StepValues {
   std::vector<ProbeValues> probes;
   std::vector<Vec3> reactions;
   std::vector<ContactTotals> contacts;
+  /// The largest value of a nodal field and its node (file number and undeformed position).
+  struct Largest {
+    double value = -1;  ///< < 0: the field is not there (no plasticity)
+    long node = 0;
+    Vec3 x = Vec3::Zero();
+  };
+  /// Of the recovered nodal fields written to the VTU files: the von Mises stress, |u| and ε̃p.
+  Largest von_mises, displacement, eps_p_eq;
+  /// The equilibrium a user checks by hand, over the whole model: the supports' reactions (at
+  /// every prescribed node), the applied loads and the rigid surfaces' forces; they sum to
+  /// zero (to the residual).
+  Vec3 supports = Vec3::Zero(), loads = Vec3::Zero(), contact = Vec3::Zero();
+  double force_scale = 0;  ///< Σ over the nodes of |F_int|
 };
 StepValues step_values(const Model& model, const State& state, const RecoveredFields& fields);
 
@@ -166,12 +179,29 @@ class ResultWriter final : public StepObserver {
   void abandon();
   /// The last probe and reaction values, as the summary reports them.
   const nlohmann::json& final_values() const { return final_values_; }
+  /// The run's report (summary.json's `report`): the largest von Mises stress, displacement
+  /// and equivalent plastic strain of all written steps' nodal fields, where and when; the
+  /// last step's balance of reactions, loads and contact forces; each contact's largest force.
+  nlohmann::json report() const;
+  /// The same as lines for hencky.log and the terminal.
+  std::vector<std::string> report_lines() const;
 
  private:
   void write_history(const StepReport& report, const State& state, const StepValues& values);
+  /// Keeps the run's largest values and the last balance (report()).
+  void remember(double time, const StepValues& values);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;
+  struct Peak {
+    StepValues::Largest at;
+    double time = 0;
+  };
+  Peak peak_von_mises_, peak_displacement_, peak_eps_p_eq_;
+  std::vector<std::pair<double, double>> peak_contact_;  ///< each contact's largest force, when
+  double balance_time_ = -1;
+  Vec3 supports_ = Vec3::Zero(), loads_ = Vec3::Zero(), contact_ = Vec3::Zero();
+  double force_scale_ = 0;
   std::ofstream history_;
   std::unique_ptr<PvdWriter> pvd_;
   std::unique_ptr<FieldsWriter> fields_;

@@ -65,4 +65,9 @@ for h in 0 62.5e9; do
       "$nd/$scheme-$h-160" "$h"
   done
 done
+# The run's report: |u| is largest at the corner (1, 1, z) at t = 4, 5e-5 sqrt(2); von Mises
+# reaches sigma_y first at t = 1; no load, so the reactions balance to round-off of the forces.
+ex_check "nl1: report, the largest displacement and von Mises stress, where and when" \
+  "$nd/newton-0-80/summary.json" \
+  'close(s["report"]["displacement"]["value"], 5e-5 * 2 ** 0.5, 1e-12) and s["report"]["displacement"]["time"] == 4 and s["report"]["displacement"]["position"][:2] == [1, 1] and close(s["report"]["von_mises"]["value"], 5e6, 1e-12) and s["report"]["von_mises"]["time"] == 1 and s["report"]["balance"]["imbalance"] < 1e-12'
 # On MPI ranks: tests/cli/cases/40_parallel.sh ("more ranks than cells").
