@@ -365,17 +365,15 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   std::unique_ptr<Case> spec;
   long long case_print = 0;  // of the case file's text: the ranks must have read the same
   if (int code = together([&] {
-        spec = std::make_unique<Case>(read_case(case_path));
+        std::string text;  // the case file's, read once
+        spec = std::make_unique<Case>(read_case(case_path, &text));
         dir = out_dir.empty() ? spec->output.dir : command_line_dir(out_dir);
         dir_where = out_dir.empty() ? spec->output.dir_where : SourceLocation{"", 0, 0, "-o"};
         // Before the mesh (Gmsh may mesh for minutes) and the analysis: root writes the
         // outputs, and can.
         if (par::root()) check_output_dir(dir, dir_where);
         distribute = par::size() > 1 && !replicated_by_environment();
-        std::ifstream in(case_path, std::ios::binary);
-        std::ostringstream text;
-        text << in.rdbuf();
-        case_print = static_cast<long long>(std::hash<std::string>{}(text.str()) >> 1);
+        case_print = static_cast<long long>(std::hash<std::string>{}(text) >> 1);
       }))
     return code;
   // A distributed mesh is read by root alone: the ranks compare their case files instead.

@@ -166,13 +166,15 @@ void read_sections(const Reader& r, const Map& top, Case& c) {
 
 // ---------------------------------------------------------------------------------------------
 
-Case read_case(const fs::path& case_file) {
+Case read_case(const fs::path& case_file, std::string* text) {
   // fs::absolute throws on an empty path: say what a missing file says.
   if (case_file.empty())
     throw InputError(SourceLocation{}, "case file not found: the path is empty (\"\")");
-  return read_case_text(
-      case_input::read_text(case_file.string(), fs::absolute(case_file).lexically_normal()),
-      case_file);
+  std::string read =
+      case_input::read_text(case_file.string(), fs::absolute(case_file).lexically_normal());
+  Case c = read_case_text(read, case_file);
+  if (text) *text = std::move(read);
+  return c;
 }
 
 Case read_case_text(const std::string& text, const fs::path& case_file) {
