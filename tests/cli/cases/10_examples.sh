@@ -147,6 +147,11 @@ ex_check "ball-indentation: released at t = 2 (at most the touching node left, n
   'at(2.0)["contact.ball.nodes"] <= 1 and abs(at(2.0)["contact.ball.resultant.z"]) < 1e-6 * 87.0'
 ex_check "ball-indentation: summary reports the contact (force, nodes, resultant, max_pressure)" "$s" \
   'set(s["contact"]["ball"]) >= {"force", "nodes", "resultant", "max_penetration", "max_pressure"}'
+expect_cmd "ball-indentation: plot.py draws the force against Hertz's (a PNG)" 0 "wrote .*P = 8[0-9.]+ N \(Hertz 87.03\)" -- \
+  "$ex_py" "$d/plot.py" "$d/case.out" "$d/force-approach.png"
+if head -c 8 "$d/force-approach.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a"; then
+  ok "ball-indentation: ... the file is a PNG"
+else bad "ball-indentation: force-approach.png is not a PNG"; fi
 ex_check "ball-indentation: report, the largest contact force is history's, at t = 1" "$s" \
   's["report"]["contact_force"]["ball"]["time"] == 1 and close(s["report"]["contact_force"]["ball"]["value"], max(float(r["contact.ball.force"]) for r in __import__("csv").DictReader(open("'"$hc"'"))), 1e-12)'
 
