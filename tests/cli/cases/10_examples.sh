@@ -33,6 +33,8 @@ ex_check "lame-cylinder: report, largest displacement = u_r(a) within 1 %, on th
   'close(s["report"]["displacement"]["value"], 9.0793650793650794e-05, 0.01) and abs(sum(v * v for v in s["report"]["displacement"]["position"][:2]) ** 0.5 - 0.1) < 1e-9'
 ex_check "lame-cylinder: report, loads p a L along x and y, the reactions balance them" "$s" \
   'close(s["report"]["balance"]["loads"][0], 2e5, 1e-9) and close(s["report"]["balance"]["loads"][1], 2e5, 1e-9) and s["report"]["balance"]["imbalance"] < 1e-9 and "equivalent_plastic_strain" not in s["report"]'
+expect_cmd "lame-cylinder: plot.py draws the wall's stresses on Lame's, hoop within 3 %" 0 \
+  "hoop stress within [0-2]\.[0-9]+ % of Lam" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/wall.png"
 if grep -q "^report: balance at t = 1: reactions" "$d/case.out/hencky.log" &&
    grep -q "^report: time (s): .*assembly" "$d/case.out/hencky.log"; then
   ok "lame-cylinder: report, its lines in hencky.log"
