@@ -54,6 +54,9 @@ ex_check "cantilever: mid-span top-fibre stress vs M c / I within 0.5%" "$s" \
   'close(s["probes"]["mid_top"]["stress"]["xx"], 60.0e6, 0.005)'
 ex_check "cantilever: clamp reaction balances the 10 kN end load to 1e-6" "$s" \
   'close(s["reactions"]["clamp"]["z"], 1.0e4, 1e-6) and abs(s["reactions"]["clamp"]["x"]) < 1e-2 and abs(s["reactions"]["clamp"]["y"]) < 1e-2'
+expect_cmd "cantilever: plot.py draws the deflection along the beam on Timoshenko's" 0 \
+  "tip deflection 3\.[0-9]+ mm, Timoshenko 3\.8387 mm \(-[01]\.[0-9]+ %\)" -- \
+  "$ex_py" "$d/plot.py" "$d/case.out" "$d/along.png"
 
 # --- Thermal plate: edges held in plane, T = 20 + 230 t z/h, E and alpha tables.
 #     Top face at t = 1 (250 degC): sigma_xx = -E(250) (alpha(250) 250 - alpha(20) 20)/(1 - nu)
