@@ -75,6 +75,8 @@ ex_check "thermal-plate: top-face rise vs the integrated thermal strain within 0
   'close(s["probes"]["top"]["displacement"]["z"], 5.49119461698073e-05, 1e-3)'
 ex_check "thermal-plate: probe temperature 250 degC, 4 steps, no table warnings" "$s" \
   'close(s["probes"]["top"]["temperature"], 250.0, 1e-9) and s["steps"] == 4 and s["warnings"] == []'
+expect_cmd "thermal-plate: plot.py draws the stress through the thickness on the closed form" 0 \
+  "within 0\.[0-9]+ % of the top face" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/through.png"
 
 # --- Bracket: the bolt reactions balance the 1 kN pin load; the tip deflection is within 5% of
 #     the fine-mesh value in the README (1.015 mm at h = 5 mm).
