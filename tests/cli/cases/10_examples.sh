@@ -117,6 +117,8 @@ ex_check "plate-hole-overload: elastic at t = 0.4, plastic from t = 0.6, elastic
   'at(0.4)["plastic_points"] == 0 and all(r["plastic_points"] > 0 for r in h if 0.55 < r["time"] <= 1.0) and all(r["plastic_points"] == 0 for r in h if r["time"] > 1.0)'
 ex_check "plate-hole-overload: eps_p at the hole edge at the peak vs 4.556e-3 within 2%" "$hc" \
   'close(at(1.0)["hole_edge.equivalent_plastic_strain"], 4.5557e-3, 0.02)'
+expect_cmd "plate-hole-overload: plot.py draws the load-elongation and K_t S curves" 0 \
+  "K_t = 3\.2[0-9]+, peak 112\.50 kN = 0\.845 P_L" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/le.png"
 ex_check "plate-hole-overload: report, the largest eps_p on the hole's edge (x = 12.5 mm), t >= 1" "$s" \
   'abs(s["report"]["equivalent_plastic_strain"]["position"][0] - 0.0125) < 1e-9 and abs(s["report"]["equivalent_plastic_strain"]["position"][1]) < 1e-9 and s["report"]["equivalent_plastic_strain"]["time"] >= 1 and close(s["report"]["equivalent_plastic_strain"]["value"], 4.5557e-3, 0.05)'
 ex_check "plate-hole-overload: von Mises at the hole edge = the table's stress at its eps_p within 1%" "$hc" \
