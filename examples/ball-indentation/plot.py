@@ -5,23 +5,16 @@ P = (4/3) E* sqrt(R) delta^(3/2) and p0 = (2 E* / pi) sqrt(delta / R).
 
     python3 examples/ball-indentation/plot.py [case.out] [force-approach.png]
 
-Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import math
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "force-approach.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "force-approach.png")
 
 E, NU, R = 210e9, 0.3, 0.01  # as in case.yaml
 E_STAR = E / (1 - NU ** 2)

@@ -5,22 +5,15 @@ Timoshenko's beam: w(x) = F x^2 (3L - x)/(6 E I) + F x/(kappa G A), sigma_xx = F
 
     python3 examples/cantilever/plot.py [case.out] [deflection-along.png]
 
-Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "deflection-along.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "deflection-along.png")
 last = rows[-1]
 
 F, L, w, h, E, nu = 1e4, 1.0, 0.05, 0.1, 2.1e11, 0.3  # as in beam.geo and case.yaml

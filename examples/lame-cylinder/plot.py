@@ -6,22 +6,15 @@ u_r = ((1 + nu)/E) ((1 - 2 nu) A r + B/r), A = p a^2/(b^2 - a^2), B = p a^2 b^2/
 
     python3 examples/lame-cylinder/plot.py [case.out] [stress-across-wall.png]
 
-Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "stress-across-wall.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "stress-across-wall.png")
 last = rows[-1]
 
 a, b, p, E, nu = 0.1, 0.2, 100e6, 2.1e11, 0.3  # as in cylinder.geo and case.yaml (t = 1)

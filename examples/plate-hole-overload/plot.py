@@ -7,22 +7,15 @@ the gross stress S, with the elastic K_t S (K_t from the first, elastic, step).
 
     python3 examples/plate-hole-overload/plot.py [case.out] [load-elongation.png]
 
-Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "load-elongation.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "load-elongation.png")
 rows = [{"time": 0.0, "reaction.symmetry_y.y": 0.0, "end.displacement.y": 0.0,
          "hole_edge.stress.yy": 0.0}] + rows
 

@@ -6,22 +6,15 @@ T = 20 + 230 t z/h, with E(T) and alpha(T) the case's tables (linear between the
 
     python3 examples/thermal-plate/plot.py [case.out] [stress-through-thickness.png]
 
-Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "stress-through-thickness.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "stress-through-thickness.png")
 
 T_TABLE = [20, 100, 200, 300]  # as in case.yaml
 E_TABLE = [2.10e11, 2.05e11, 1.97e11, 1.88e11]

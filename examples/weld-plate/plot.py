@@ -6,22 +6,15 @@ the probe's temperature, and the residual longitudinal stress across the half wi
 
     python3 examples/weld-plate/plot.py [case.out] [temperature-stress.png]
 
-Needs matplotlib: scripts/setup-plots.sh installs it (Debian's python3-matplotlib)."""
-import csv
+Needs matplotlib: scripts/setup.sh installs it (Debian's python3-matplotlib); the
+prologue is scripts/example_plot.py's."""
 import sys
 from pathlib import Path
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    sys.exit("plot.py needs matplotlib: run scripts/setup-plots.sh (Debian's python3-matplotlib)")
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+from example_plot import start  # noqa: E402
 
-here = Path(__file__).resolve().parent
-out_dir = Path(sys.argv[1]) if len(sys.argv) > 1 else here / "case.out"
-png = Path(sys.argv[2]) if len(sys.argv) > 2 else here / "temperature-stress.png"
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(out_dir / "history.csv"))]
+plt, rows, png = start(__file__, "temperature-stress.png")
 
 # The yield stress over temperature, as in case.yaml (Pa).
 YIELD_T = [0, 20, 200, 400, 600, 800, 1000, 2500]

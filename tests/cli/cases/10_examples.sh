@@ -34,7 +34,7 @@ ex_check "lame-cylinder: report, largest displacement = u_r(a) within 1 %, on th
 ex_check "lame-cylinder: report, loads p a L along x and y, the reactions balance them" "$s" \
   'close(s["report"]["balance"]["loads"][0], 2e5, 1e-9) and close(s["report"]["balance"]["loads"][1], 2e5, 1e-9) and s["report"]["balance"]["imbalance"] < 1e-9 and "equivalent_plastic_strain" not in s["report"]'
 expect_cmd "lame-cylinder: plot.py draws the wall's stresses on Lame's, hoop within 3 %" 0 \
-  "hoop stress within [0-2]\.[0-9]+ % of Lam" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/wall.png"
+  "hoop stress within [0-2]\.[0-9]+ % of Lam" -- env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot.py" "$d/case.out" "$d/wall.png"
 if grep -q "^report: balance at t = 1: reactions" "$d/case.out/hencky.log" &&
    grep -q "^report: time (s): .*assembly" "$d/case.out/hencky.log"; then
   ok "lame-cylinder: report, its lines in hencky.log"
@@ -56,7 +56,7 @@ ex_check "cantilever: clamp reaction balances the 10 kN end load to 1e-6" "$s" \
   'close(s["reactions"]["clamp"]["z"], 1.0e4, 1e-6) and abs(s["reactions"]["clamp"]["x"]) < 1e-2 and abs(s["reactions"]["clamp"]["y"]) < 1e-2'
 expect_cmd "cantilever: plot.py draws the deflection along the beam on Timoshenko's" 0 \
   "tip deflection 3\.[0-9]+ mm, Timoshenko 3\.8387 mm \(-[01]\.[0-9]+ %\)" -- \
-  "$ex_py" "$d/plot.py" "$d/case.out" "$d/along.png"
+  env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot.py" "$d/case.out" "$d/along.png"
 
 # --- Thermal plate: edges held in plane, T = 20 + 230 t z/h, E and alpha tables.
 #     Top face at t = 1 (250 degC): sigma_xx = -E(250) (alpha(250) 250 - alpha(20) 20)/(1 - nu)
@@ -76,7 +76,7 @@ ex_check "thermal-plate: top-face rise vs the integrated thermal strain within 0
 ex_check "thermal-plate: probe temperature 250 degC, 4 steps, no table warnings" "$s" \
   'close(s["probes"]["top"]["temperature"], 250.0, 1e-9) and s["steps"] == 4 and s["warnings"] == []'
 expect_cmd "thermal-plate: plot.py draws the stress through the thickness on the closed form" 0 \
-  "within 0\.[0-9]+ % of the top face" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/through.png"
+  "within 0\.[0-9]+ % of the top face" -- env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot.py" "$d/case.out" "$d/through.png"
 
 # --- Bracket: the bolt reactions balance the 1 kN pin load; the tip deflection is within 5% of
 #     the fine-mesh value in the README (1.015 mm at h = 5 mm).
@@ -118,7 +118,7 @@ ex_check "plate-hole-overload: elastic at t = 0.4, plastic from t = 0.6, elastic
 ex_check "plate-hole-overload: eps_p at the hole edge at the peak vs 4.556e-3 within 2%" "$hc" \
   'close(at(1.0)["hole_edge.equivalent_plastic_strain"], 4.5557e-3, 0.02)'
 expect_cmd "plate-hole-overload: plot.py draws the load-elongation and K_t S curves" 0 \
-  "K_t = 3\.2[0-9]+, peak 112\.50 kN = 0\.845 P_L" -- "$ex_py" "$d/plot.py" "$d/case.out" "$d/le.png"
+  "K_t = 3\.2[0-9]+, peak 112\.50 kN = 0\.845 P_L" -- env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot.py" "$d/case.out" "$d/le.png"
 ex_check "plate-hole-overload: report, the largest eps_p on the hole's edge (x = 12.5 mm), t >= 1" "$s" \
   'abs(s["report"]["equivalent_plastic_strain"]["position"][0] - 0.0125) < 1e-9 and abs(s["report"]["equivalent_plastic_strain"]["position"][1]) < 1e-9 and s["report"]["equivalent_plastic_strain"]["time"] >= 1 and close(s["report"]["equivalent_plastic_strain"]["value"], 4.5557e-3, 0.05)'
 ex_check "plate-hole-overload: von Mises at the hole edge = the table's stress at its eps_p within 1%" "$hc" \
@@ -157,7 +157,7 @@ ex_check "ball-indentation: released at t = 2 (at most the touching node left, n
 ex_check "ball-indentation: summary reports the contact (force, nodes, resultant, max_pressure)" "$s" \
   'set(s["contact"]["ball"]) >= {"force", "nodes", "resultant", "max_penetration", "max_pressure"}'
 expect_cmd "ball-indentation: plot.py draws the force against Hertz's (a PNG)" 0 "wrote .*P = 8[0-9.]+ N \(Hertz 87.03\)" -- \
-  "$ex_py" "$d/plot.py" "$d/case.out" "$d/force-approach.png"
+  env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot.py" "$d/case.out" "$d/force-approach.png"
 if head -c 8 "$d/force-approach.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a"; then
   ok "ball-indentation: ... the file is a PNG"
 else bad "ball-indentation: force-approach.png is not a PNG"; fi
