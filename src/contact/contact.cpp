@@ -151,14 +151,8 @@ ContactFaceSums contact_face_sums(const Mesh& mesh, const Region& region,
     const auto face = mesh.faces.nodes(f);
     const CellType type = mesh.faces.type[f];
     const auto edges = quadratic_edges(type);
-    for (const FaceEdge& e : edges) {  // ũ_m = (u_m − α(u_a + u_b)) / (1 − 2α)
-      ContactPoint& p = pts[index.at(face[e.mid])];
-      p.terms = 3;
-      p.term_node[1] = face[e.a];
-      p.term_node[2] = face[e.b];
-      p.term_coef[0] = 1 / (1 - 2 * alpha);
-      p.term_coef[1] = p.term_coef[2] = -alpha / (1 - 2 * alpha);
-    }
+    for (const FaceEdge& e : edges)
+      set_mid_edge_terms(pts[index.at(face[e.mid])], face[e.a], face[e.b]);
     // ∫Ñ_i dA, Ñ_corner = N_corner + α Σ N_m over the face's edges at the corner,
     // Ñ_m = (1 − 2α) N_m.
     const ReferenceTable& tab = reference_table(type);

@@ -170,4 +170,15 @@ std::vector<ContactPoint> finish_contact_points(const Mesh& mesh, ContactFaceSum
 /// α of the quadratic-face transformation (see the header comment).
 inline constexpr double quadratic_face_alpha = 0.2;
 
+/// Makes `p` a mid-edge point of the edge with corner nodes a and b:
+/// ũ_m = (u_m − α(u_a + u_b)) / (1 − 2α).
+inline void set_mid_edge_terms(ContactPoint& p, int a, int b) {
+  constexpr double alpha = quadratic_face_alpha;
+  p.terms = 3;
+  p.term_node[1] = a;
+  p.term_node[2] = b;
+  p.term_coef[0] = 1 / (1 - 2 * alpha);
+  p.term_coef[1] = p.term_coef[2] = -alpha / (1 - 2 * alpha);
+}
+
 }  // namespace hencky

@@ -149,8 +149,13 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
     largest.insert(largest.end(), {t.max_penetration, t.max_penetration_relative, t.max_pressure});
   }
   sums.insert(sums.end(), probe_numbers.begin(), probe_numbers.end());
-  // The balance: each rank's own nodes' reactions, loads and contact forces.
-  double balance[10] = {};  // and Σ |F_int| over the nodes, the scale of the forces
+  // Over each rank's own nodes: the balance (reactions, loads, contact forces and Σ |F_int|,
+  // the scale of the forces), and the largest nodal values, each as 5 numbers: the value, the
+  // node's number and its position.
+  double balance[10] = {};
+  std::array<double, 15> mine;
+  for (int k = 0; k < 3; ++k) mine[5 * k] = -1;
+  const bool plastic = !fields.nodal_eps_p_eq.empty();
   const Mesh& mesh = model.mesh();
   for (int n = 0; n < mesh.n_nodes(); ++n) {
     if (part.node_owner[n] != part.rank) continue;
@@ -161,6 +166,15 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
       balance[6 + d] += state.f_contact[i + d];
     }
     balance[9] += Vec3(state.f_int[i], state.f_int[i + 1], state.f_int[i + 2]).norm();
+    const double v[3] = {von_mises(fields.nodal_stress[n]),
+                         Vec3(state.u[i], state.u[i + 1], state.u[i + 2]).norm(),
+                         plastic ? fields.nodal_eps_p_eq[n] : -1.0};
+    for (int k = 0; k < 3; ++k)
+      if (v[k] > mine[5 * k]) {
+        mine[5 * k] = v[k];
+        mine[5 * k + 1] = static_cast<double>(mesh.node_tag[n]);
+        for (int d = 0; d < 3; ++d) mine[5 * k + 2 + d] = mesh.x[n][d];
+      }
   }
   sums.insert(sums.end(), balance, balance + 10);
   par::sum_to_root(std::span<double>(sums));
@@ -179,33 +193,11 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
   }
   out.probes.resize(probes.size());
   for (ProbeValues& v : out.probes) each_number(v, [&](double& x) { x = *s++; });
-  out.supports = Vec3(s[0], s[1], s[2]);
-  out.loads = Vec3(s[3], s[4], s[5]);
-  out.contact = Vec3(s[6], s[7], s[8]);
-  out.force_scale = s[9];
-  // The largest nodal values: each rank's over its own nodes, the largest of all on root (the
-  // lowest rank's where two are equal).
-  // Each as 5 numbers: the value, the node's number, its position.
-  std::array<double, 15> mine;
-  for (int k = 0; k < 3; ++k) mine[5 * k] = -1;
-  const bool plastic = !fields.nodal_eps_p_eq.empty();
-  for (int n = 0; n < mesh.n_nodes(); ++n) {
-    if (part.node_owner[n] != part.rank) continue;
-    const double v[3] = {von_mises(fields.nodal_stress[n]),
-                         Vec3(state.u[3 * n], state.u[3 * n + 1], state.u[3 * n + 2]).norm(),
-                         plastic ? fields.nodal_eps_p_eq[n] : -1.0};
-    for (int k = 0; k < 3; ++k)
-      if (v[k] > mine[5 * k]) {
-        mine[5 * k] = v[k];
-        mine[5 * k + 1] = static_cast<double>(mesh.node_tag[n]);
-        for (int d = 0; d < 3; ++d) mine[5 * k + 2 + d] = mesh.x[n][d];
-      }
-  }
-  const std::string bytes(reinterpret_cast<const char*>(mine.data()), sizeof mine);
-  const std::vector<std::string> all =
-      par::size() > 1 ? par::gather_strings(bytes) : std::vector<std::string>{bytes};
+  out.balance = {Vec3(s[0], s[1], s[2]), Vec3(s[3], s[4], s[5]), Vec3(s[6], s[7], s[8]), s[9]};
+  // The largest nodal values of all on root (the lowest rank's where two are equal).
   StepValues::Largest* best[3] = {&out.von_mises, &out.displacement, &out.eps_p_eq};
-  for (const std::string& b : all) {
+  const std::string bytes(reinterpret_cast<const char*>(mine.data()), sizeof mine);
+  for (const std::string& b : par::gather_strings(bytes)) {
     if (b.size() != sizeof mine) continue;  // not root
     std::array<double, 15> theirs;
     std::memcpy(theirs.data(), b.data(), sizeof theirs);
@@ -526,20 +518,16 @@ void ResultWriter::remember(double time, const StepValues& values) {
     if (values.contacts[b].force > peak_contact_[b].first)
       peak_contact_[b] = {values.contacts[b].force, time};
   balance_time_ = time;
-  supports_ = values.supports;
-  loads_ = values.loads;
-  contact_ = values.contact;
-  force_scale_ = values.force_scale;
+  balance_ = values.balance;
+}
+
+double StepValues::Balance::imbalance() const {
+  // Σ|F_int| is the scale where the loads vanish and the reactions are round-off.
+  const double scale = std::max({supports.norm(), loads.norm(), contact.norm(), force_scale});
+  return scale > 0 ? (supports + loads + contact).norm() / scale : 0.0;
 }
 
 namespace {
-/// |R + P + C| over the largest of the three and of the nodes' internal forces Σ|F_int| (the
-/// scale where the loads vanish and the reactions are round-off): how far the balance is from
-/// zero.
-double imbalance(const Vec3& r, const Vec3& p, const Vec3& c, double forces) {
-  const double scale = std::max({r.norm(), p.norm(), c.norm(), forces});
-  return scale > 0 ? (r + p + c).norm() / scale : 0.0;
-}
 nlohmann::json vec(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
 }
@@ -556,10 +544,10 @@ nlohmann::json ResultWriter::report() const {
   j["displacement"] = peak(peak_displacement_);
   if (peak_eps_p_eq_.at.value >= 0) j["equivalent_plastic_strain"] = peak(peak_eps_p_eq_);
   j["balance"] = {{"time", balance_time_},
-                  {"reactions", vec(supports_)},
-                  {"loads", vec(loads_)},
-                  {"contact", vec(contact_)},
-                  {"imbalance", imbalance(supports_, loads_, contact_, force_scale_)}};
+                  {"reactions", vec(balance_.supports)},
+                  {"loads", vec(balance_.loads)},
+                  {"contact", vec(balance_.contact)},
+                  {"imbalance", balance_.imbalance()}};
   for (std::size_t b = 0; b < peak_contact_.size(); ++b)
     j["contact_force"][model_.contacts()[b].spec->name] = {{"value", peak_contact_[b].first},
                                                            {"time", peak_contact_[b].second}};
@@ -584,9 +572,9 @@ std::vector<std::string> ResultWriter::report_lines() const {
     return fmt::format("({:.4g}, {:.4g}, {:.4g})", x.x(), x.y(), x.z());
   };
   lines.push_back(fmt::format("balance at t = {:g}: reactions {} + loads {}{} = 0 to {:.1e}",
-                              balance_time_, v(supports_), v(loads_),
-                              peak_contact_.empty() ? "" : " + contact " + v(contact_),
-                              imbalance(supports_, loads_, contact_, force_scale_)));
+                              balance_time_, v(balance_.supports), v(balance_.loads),
+                              peak_contact_.empty() ? "" : " + contact " + v(balance_.contact),
+                              balance_.imbalance()));
   for (std::size_t b = 0; b < peak_contact_.size(); ++b)
     lines.push_back(fmt::format("contact '{}': largest force {:.4g} at t = {:g}",
                                 model_.contacts()[b].spec->name, peak_contact_[b].first,

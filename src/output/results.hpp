@@ -80,8 +80,13 @@ struct StepValues {
   /// The equilibrium a user checks by hand, over the whole model: the supports' reactions (at
   /// every prescribed node), the applied loads and the rigid surfaces' forces; they sum to
   /// zero (to the residual).
-  Vec3 supports = Vec3::Zero(), loads = Vec3::Zero(), contact = Vec3::Zero();
-  double force_scale = 0;  ///< Σ over the nodes of |F_int|
+  struct Balance {
+    Vec3 supports = Vec3::Zero(), loads = Vec3::Zero(), contact = Vec3::Zero();
+    double force_scale = 0;  ///< Σ over the nodes of |F_int|
+    /// |supports + loads + contact| over the largest of them and force_scale.
+    double imbalance() const;
+  };
+  Balance balance;
 };
 StepValues step_values(const Model& model, const State& state, const RecoveredFields& fields);
 
@@ -180,7 +185,7 @@ class ResultWriter final : public StepObserver {
   /// The last probe and reaction values, as the summary reports them.
   const nlohmann::json& final_values() const { return final_values_; }
   /// The run's report (summary.json's `report`): the largest von Mises stress, displacement
-  /// and equivalent plastic strain of all written steps' nodal fields, where and when; the
+  /// and equivalent plastic strain of every converged step's nodal fields, where and when; the
   /// last step's balance of reactions, loads and contact forces; each contact's largest force.
   nlohmann::json report() const;
   /// The same as lines for hencky.log and the terminal.
@@ -199,9 +204,8 @@ class ResultWriter final : public StepObserver {
   };
   Peak peak_von_mises_, peak_displacement_, peak_eps_p_eq_;
   std::vector<std::pair<double, double>> peak_contact_;  ///< each contact's largest force, when
-  double balance_time_ = -1;
-  Vec3 supports_ = Vec3::Zero(), loads_ = Vec3::Zero(), contact_ = Vec3::Zero();
-  double force_scale_ = 0;
+  double balance_time_ = -1;  ///< of the last converged step (-1: none yet)
+  StepValues::Balance balance_;
   std::ofstream history_;
   std::unique_ptr<PvdWriter> pvd_;
   std::unique_ptr<FieldsWriter> fields_;

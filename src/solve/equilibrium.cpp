@@ -465,7 +465,6 @@ void Equilibrium::report(const StepOutcome& out) const {
   }
 }
 
-/// Every measure within the tolerance, after at least one solve.
 bool Equilibrium::converging_on(const StepOutcome& out) const {
   // solver.max_iterations: auto. A step that reaches the limit while its measures still fall
   // steadily goes on, up to twice the limit, where their rate over the last iterations says it
@@ -493,6 +492,7 @@ bool Equilibrium::converging_on(const StepOutcome& out) const {
   return true;
 }
 
+/// Every measure within the tolerance, after at least one solve.
 bool Equilibrium::converged(const StepOutcome& out) const {
   const double tol = m_.spec().solver.tolerance;
   const bool measures_ok = !plastic_ || (out.delta_sigma <= tol && out.delta_eps <= tol);

@@ -644,19 +644,18 @@ void Model::bind_contact() {
       continue;
     }
     body.points = contact_points(mesh_, region, spec.nodes_where);
-    add_contact_stiffness(body);
+    add_contact_stiffness(body.points);
     const std::string error = start_contact(body, nullptr);
     if (!error.empty()) throw InputError(spec.surface_where, error);
     contacts_.push_back(std::move(body));
   }
 }
 
-void Model::add_contact_stiffness(ContactBody& body) const {
+void Model::add_contact_stiffness(std::vector<ContactPoint>& points) const {
   // Stiffness scale of each point for κ = auto: tr(K_aa)/3 of the elastic matrix at T_ref,
   // Σ over the cells at the node of ∫ (λ + 4μ)/3 |∇N_a|² dV.
   std::vector<int> node_point(mesh_.n_nodes(), -1);
-  for (std::size_t i = 0; i < body.points.size(); ++i)
-    node_point[body.points[i].node] = static_cast<int>(i);
+  for (std::size_t i = 0; i < points.size(); ++i) node_point[points[i].node] = static_cast<int>(i);
   CellKinematics kin;
   Vec3 x[max_cell_nodes];
   for (int e = 0; e < mesh_.cells.size(); ++e) {
@@ -671,7 +670,7 @@ void Model::add_contact_stiffness(ContactBody& body) const {
       for (std::size_t a = 0; a < nodes.size(); ++a)
         if (const int i = node_point[nodes[a]]; i >= 0) {
           const double* g = kin.grad(q) + 3 * a;
-          body.points[i].stiffness += c * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * kin.dv[q];
+          points[i].stiffness += c * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * kin.dv[q];
         }
   }
 }
@@ -726,57 +725,48 @@ void Model::bind_contact_of_part() {
       error = e.message();
     }
     if (error = par::first_error(error); !error.empty()) throw InputError(spec.nodes_where, error);
+    add_contact_stiffness(sums.points);  // this rank's cells' share
     constexpr int w = 7;  // area, Σ face area, faces, stiffness, mid-edge count, corners
     std::vector<double> v(static_cast<std::size_t>(w) * n, 0.0);
-    {
-      ContactBody stiff;
-      stiff.points = sums.points;
-      add_contact_stiffness(stiff);
-      for (std::size_t i = 0; i < nodes.size(); ++i) {
-        const ContactPoint& p = sums.points[i];
-        double* x = &v[static_cast<std::size_t>(w) * nodes[i]];
-        x[0] = p.area;
-        x[1] = sums.size2[i];
-        x[2] = sums.faces[i];
-        x[3] = stiff.points[i].stiffness;
-        if (p.terms == 3) {
-          const long long a = part_->global_node[p.term_node[1]],
-                          b = part_->global_node[p.term_node[2]];
-          x[4] = 1;
-          x[5] = static_cast<double>(std::min(a, b));
-          x[6] = static_cast<double>(std::max(a, b));
-        }
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const ContactPoint& p = sums.points[i];
+      double* x = &v[static_cast<std::size_t>(w) * nodes[i]];
+      x[0] = p.area;
+      x[1] = sums.size2[i];
+      x[2] = sums.faces[i];
+      x[3] = p.stiffness;
+      if (p.terms == 3) {
+        const long long a = part_->global_node[p.term_node[1]],
+                        b = part_->global_node[p.term_node[2]];
+        x[4] = 1;
+        x[5] = static_cast<double>(std::min(a, b));
+        x[6] = static_cast<double>(std::max(a, b));
       }
     }
     exchange_->sum(v, w);
     if (local.empty())
       for (int k = 0; k < n; ++k) local.emplace(part_->global_node[k], k);
-    std::vector<double> stiffness(nodes.size());
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       ContactPoint& p = sums.points[i];
       const double* x = &v[static_cast<std::size_t>(w) * nodes[i]];
       p.area = x[0];
       sums.size2[i] = x[1];
       sums.faces[i] = x[2];
-      stiffness[i] = x[3];
-      if (x[4] > 0) {  // every copy that has a face at it gives the same corners
-        p.terms = 3;
-        p.term_node[1] = local.at(std::llround(x[5] / x[4]));
-        p.term_node[2] = local.at(std::llround(x[6] / x[4]));
-        p.term_coef[0] = 1 / (1 - 2 * quadratic_face_alpha);
-        p.term_coef[1] = p.term_coef[2] = -quadratic_face_alpha / (1 - 2 * quadratic_face_alpha);
-      }
+      p.stiffness = x[3];
+      if (x[4] > 0)  // every copy that has a face at it gives the same corners
+        set_mid_edge_terms(p, local.at(std::llround(x[5] / x[4])),
+                           local.at(std::llround(x[6] / x[4])));
     }
     body.points = finish_contact_points(mesh_, std::move(sums));
-    for (std::size_t i = 0; i < nodes.size(); ++i) body.points[i].stiffness = stiffness[i];
     // The whole list's index of each point: the place of its node's whole number among the
     // region's (a whole mesh lists them in that order). Root sorts the owners' numbers (the
     // region's, transiently) and tells each its points' places; ghosts take their owners'.
     std::vector<long long> own;
     for (const ContactPoint& p : body.points)
       if (p.node < part_->owned_nodes) own.push_back(part_->global_node[p.node]);
-    const auto as_bytes = [](const auto& v) {
-      return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    const auto as_bytes = [](const std::vector<long long>& numbers) {
+      return std::string(reinterpret_cast<const char*>(numbers.data()),
+                         numbers.size() * sizeof(long long));
     };
     std::vector<std::string> places(par::size());
     if (const auto owners = par::gather_strings(as_bytes(own)); par::root()) {

@@ -211,8 +211,8 @@ class Model {
   /// A part's contact points, bound together (join): every copy of a point has the whole
   /// model's area, element size and stiffness. Collective.
   void bind_contact_of_part();
-  /// Adds each point's stiffness scale over this mesh's cells at it.
-  void add_contact_stiffness(ContactBody& body) const;
+  /// Adds to each point's stiffness scale this mesh's cells' share at it.
+  void add_contact_stiffness(std::vector<ContactPoint>& points) const;
   /// Sets each point's starting gap, and returns the message for the first point (of those
   /// whose node `node_owner` gives this rank, when given) that starts inside the surface by
   /// more than allowed, or "".
