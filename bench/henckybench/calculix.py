@@ -98,6 +98,14 @@ def ccx_face_pressure(coords: np.ndarray, tets_ccx: np.ndarray, tris: np.ndarray
     return "*DLOAD\n" + "".join(lines)
 
 
+def ccx_surface(name: str, coords: np.ndarray, tets_ccx: np.ndarray, tris: np.ndarray) -> str:
+    """*SURFACE (element, S<face>) of the element faces that lie on the 6-node triangles `tris`:
+    ccx does not need it for *DLOAD, but it names the face set as hencky's .inp reader reads it
+    (tests/cli/cases/80_inp.sh runs hencky on these decks)."""
+    pairs = [l.split(",")[:2] for l in ccx_face_pressure(coords, tets_ccx, tris, 0.0, name).splitlines()[1:]]
+    return f"*SURFACE, NAME={name.upper()}\n" + "".join(f"{e},S{p[1:]}\n" for e, p in pairs)
+
+
 # ----------------------------------------------------------------------------------------------
 # The problems' inputs
 # ----------------------------------------------------------------------------------------------
@@ -120,6 +128,7 @@ def write_elastic_inp(problem: str, mesh: dict, inp: Path, solver: str = "spoole
     loads = []
     if problem == "cantilever":
         out.append(nset("FIXED", surf["fixed"]))
+        out.append(ccx_surface("tip", coords, tets_ccx, surf["tip"]))
         bcs = "*BOUNDARY\nFIXED,1,3\n"
         # Uniform traction t = P/A on flat 6-node triangles: consistent nodal forces are zero at
         # the corners and area/3 * t at each mid-edge node (what hencky's `force` integrates).
@@ -135,6 +144,7 @@ def write_elastic_inp(problem: str, mesh: dict, inp: Path, solver: str = "spoole
     else:
         for name, comp in (("sym_x", 1), ("sym_y", 2), ("bottom", 3), ("top", 3)):
             out.append(nset(name.upper(), surf[name]))
+        out.append(ccx_surface("bore", coords, tets_ccx, surf["bore"]))
         bcs = "*BOUNDARY\nSYM_X,1,1\nSYM_Y,2,2\nBOTTOM,3,3\nTOP,3,3\n"
         # Pressure on the bore: *DLOAD on the element faces that lie on it.
         loads.append(ccx_face_pressure(coords, tets_ccx, surf["bore"], CYL["p"]))

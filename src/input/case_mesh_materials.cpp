@@ -37,13 +37,16 @@ std::span<const KeySection> mesh_material_sections() {
 MeshSpec read_mesh(const Reader& r, const Val& v) {
   Map m(r, v, mesh_keys, "a map like {file: part.msh}");
   MeshSpec mesh;
-  const Val file = m.require(r, "file", "the Gmsh mesh, e.g. file: part.msh");
+  const Val file = m.require(r, "file", "the mesh, e.g. file: part.msh (or .geo, or .inp)");
   mesh.where = r.at(file);
   const std::string name = r.string(file, "a file name");
   mesh.file = r.resolve(name);
   const std::string ext = lower(mesh.file.extension().string());
-  if (ext != ".msh" && ext != ".geo")
-    r.fail(file, "expected a Gmsh mesh (.msh) or geometry (.geo) file, found '" + name + "'");
+  if (ext != ".msh" && ext != ".geo" && ext != ".inp")
+    r.fail(file,
+           "expected a Gmsh mesh (.msh), a Gmsh geometry (.geo) or an Abaqus/CalculiX "
+           "deck (.inp), found '" +
+               name + "'");
   std::error_code ec;
   if (auto s = m.get("split"); s && r.choice(*s, {"true", "false"}, "split") == "true") {
     // The files Gmsh writes for `gmsh ... -part N -part_split -o cyl.msh`: cyl_1.msh ..
@@ -74,6 +77,10 @@ MeshSpec read_mesh(const Reader& r, const Val& v) {
   if (auto o = m.get("order")) {
     const long order = r.integer(*o);
     if (order != 1 && order != 2) r.fail(*o, "expected 1 or 2, found " + std::to_string(order));
+    if (ext == ".inp")
+      r.fail(*o,
+             "an .inp deck is read with the elements it has: mesh.order converts Gmsh meshes "
+             "only (write the deck with C3D10 or C3D20 elements for quadratic ones)");
     mesh.order = static_cast<int>(order);
   }
   if (auto s = m.get("scale")) mesh.scale = r.positive(*s);

@@ -4,6 +4,7 @@
 
 #include "input/case_reader.hpp"
 #include "input/gmsh_reader.hpp"
+#include "input/inp_reader.hpp"
 
 namespace hencky {
 
@@ -27,10 +28,13 @@ LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
   opt.scale = l.spec->mesh.scale;
   std::vector<std::string> gmsh_log;
   // A split mesh read whole (one rank, or ranks other than its files): its files together.
-  Mesh mesh = l.spec->mesh.split ? read_pieces(piece_files(l.spec->mesh), opt)
-                                 : read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
+  std::vector<std::string> inp_warnings;
+  Mesh mesh = l.spec->mesh.split               ? read_pieces(piece_files(l.spec->mesh), opt)
+              : is_inp_file(l.spec->mesh.file) ? read_inp(l.spec->mesh.file, opt, &inp_warnings)
+                                               : read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
   for (const auto& line : gmsh_log)
     if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
+  for (const auto& line : inp_warnings) log.warn(line);
   l.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   t0 = Clock::now();
   l.model = std::make_unique<Model>(*l.spec, std::move(mesh), log);

@@ -1,6 +1,8 @@
 #pragma once
 // The mesh as the solver sees it: nodes numbered 0..n-1, volume cells (the body) and the
 // boundary faces that named surface regions hold, all in Gmsh node ordering.
+#include <algorithm>
+#include <cctype>
 #include <span>
 #include <string>
 #include <vector>
@@ -47,10 +49,22 @@ struct Mesh {
   std::vector<Region> regions;
 
   int n_nodes() const { return static_cast<int>(x.size()); }
-  const Region* find_region(const std::string& name) const {
+  /// The first region named `name` of a dimension in [dim_min, dim_max]; with `ignore_case`,
+  /// names match without regard to case (an Abaqus deck's, input/inp_reader.hpp).
+  const Region* find_region(const std::string& name, int dim_min = 0, int dim_max = 3,
+                            bool ignore_case = false) const {
     for (const auto& r : regions)
-      if (r.name == name) return &r;
+      if (r.dim >= dim_min && r.dim <= dim_max && same_region_name(r.name, name, ignore_case))
+        return &r;
     return nullptr;
+  }
+
+  static bool same_region_name(const std::string& a, const std::string& b, bool ignore_case) {
+    if (!ignore_case) return a == b;
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+             return std::toupper(static_cast<unsigned char>(x)) ==
+                    std::toupper(static_cast<unsigned char>(y));
+           });
   }
 };
 

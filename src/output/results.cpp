@@ -217,7 +217,7 @@ HeatFlows heat_flows(const Model& model, const State& state) {
   auto through = [&](const std::string& region, bool fixed_only) {
     double q = 0;
     for (std::size_t b = 0; b < bcs.size() && b < state.heat_flow.size(); ++b)
-      if (bcs[b].region == region &&
+      if (Mesh::same_region_name(bcs[b].region, region, model.region_names_ignore_case()) &&
           (!fixed_only || bcs[b].kind == HeatBoundarySpec::Kind::temperature))
         q += state.heat_flow[b];
     return q;

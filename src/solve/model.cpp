@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -228,15 +229,18 @@ void Model::check_whole() const {
   const auto& bcs = case_->boundary;
   for (const BoundarySpec& bc : bcs)
     if (bc.kind != BoundaryKind::displacement &&
-        par::sum(static_cast<long long>(mesh_.find_region(bc.region)->cells.size())) == 0)
+        par::sum(static_cast<long long>(
+            mesh_.find_region(bc.region, 2, 2, region_names_ignore_case())->cells.size())) == 0)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", bc.region));
   if (!par::any(!prescribed_.empty()))
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
   for (const HeatBoundarySpec& bc : case_->heat.boundary) {
-    const Region& r = *mesh_.find_region(bc.region);
-    if (bc.kind == HeatBoundarySpec::Kind::temperature) {
+    const bool nodes = bc.kind == HeatBoundarySpec::Kind::temperature;
+    const Region& r =
+        *mesh_.find_region(bc.region, nodes ? 0 : 2, nodes ? 3 : 2, region_names_ignore_case());
+    if (nodes) {
       if (par::sum(static_cast<long long>(r.nodes.size())) == 0)
         throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
     } else if (par::sum(static_cast<long long>(r.cells.size())) == 0) {
@@ -264,12 +268,12 @@ const Region& Model::find_region(const std::string& name, const SourceLocation& 
   std::vector<std::string> names;
   for (const auto& r : mesh_.regions)
     if (r.dim >= dim_min && r.dim <= dim_max) {
-      if (r.name == name) return r;
+      if (Mesh::same_region_name(r.name, name, region_names_ignore_case())) return r;
       names.push_back(r.name);
     }
   std::string msg = fmt::format("region '{}' is not a {} of the mesh {}", name, what,
                                 case_->mesh.file.filename().string());
-  if (const Region* other = mesh_.find_region(name))
+  if (const Region* other = mesh_.find_region(name, 0, 3, region_names_ignore_case()))
     msg += fmt::format(" (it is a {}D physical group)", other->dim);
   throw InputError(where, msg + "; " + suggestion(name, names, std::string(what) + "s"));
 }
@@ -334,6 +338,12 @@ void Model::bind_materials(Log& log) {
 const FactorEstimate& Model::node_factor() const {
   if (!node_factor_) node_factor_ = estimate_factor(mesh_.cells, mesh_.n_nodes());
   return *node_factor_;
+}
+
+bool Model::region_names_ignore_case() const {
+  std::string ext = case_->mesh.file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".inp";
 }
 
 bool Model::has_plasticity() const {
@@ -837,7 +847,8 @@ void Model::bind_outputs() {
     for (int n : r.nodes)
       for (int d = 0; d < 3; ++d) any = any || dofs_.eq[3 * n + d] < 0;
     for (const auto& b : case_->heat.boundary)
-      heat = heat || (b.kind == HeatBoundarySpec::Kind::temperature && b.region == r.name);
+      heat = heat || (b.kind == HeatBoundarySpec::Kind::temperature &&
+                      Mesh::same_region_name(b.region, r.name, region_names_ignore_case()));
     if (!any && !heat && !part_)
       throw InputError(out.reaction_where[k],
                        fmt::format("region '{}' has no prescribed displacement{}, so it carries "

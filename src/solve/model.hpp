@@ -152,6 +152,9 @@ class Model {
   const std::vector<ContactBody>& contacts() const { return contacts_; }
   /// Some material has a hardening curve.
   bool has_plasticity() const;
+  /// Whether region names match without regard to case: those of an Abaqus/CalculiX deck do,
+  /// as in Abaqus (input/inp_reader.hpp); Gmsh's physical names do not.
+  bool region_names_ignore_case() const;
 
   // Heat conduction (the heat section; empty without one).
   bool has_heat() const { return case_->heat.given; }

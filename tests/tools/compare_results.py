@@ -78,14 +78,24 @@ def read_pvtu(path):
     return out
 
 
+def sort_key(x, low, size):
+    """Coordinates rounded to 1e-10 of the mesh's size: two files of one mesh that wrote its
+    coordinates to different digits (an .inp's 14 against a .msh's 17) sort alike."""
+    return np.round((x - low) / size, 10)
+
+
 def canonical(f):
     """The fields with the nodes sorted by their coordinates and the cells by their centroids,
     without the mesh and the global numbers."""
     x = f["Points"]
-    node_order = np.lexsort((x[:, 2], x[:, 1], x[:, 0]))
+    low = x.min(axis=0)
+    size = max(float(np.max(x.max(axis=0) - low)), 1e-300)
+    k = sort_key(x, low, size)
+    node_order = np.lexsort((k[:, 2], k[:, 1], k[:, 0]))
     conn, ends = f["connectivity"][:, 0], f["offsets"][:, 0]
     starts = np.concatenate(([0], ends[:-1]))
-    centroid = np.add.reduceat(x[conn], starts, axis=0) / (ends - starts)[:, None]
+    centroid = sort_key(np.add.reduceat(x[conn], starts, axis=0) / (ends - starts)[:, None],
+                        low, size)
     cell_order = np.lexsort((centroid[:, 2], centroid[:, 1], centroid[:, 0]))
     out = {}
     for name, data in f.items():
