@@ -144,21 +144,34 @@ void put_named(CheckpointFile& f, const std::string& key, const Named& n) {
   f.put(key + ".fingerprints", std::span<const std::int64_t>(n.prints));
 }
 
-/// What differs between the checkpoint's `key` list and the model's ("" when nothing).
+/// The position of the k-th (from 0) entry `name` of `list`, or list.size().
+std::size_t nth(const std::vector<std::string>& list, const std::string& name, std::size_t k) {
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i] == name && k-- == 0) return i;
+  return list.size();
+}
+
+/// What differs between the checkpoint's `key` list and the model's ("" when nothing). A name
+/// may be there more than once (an Abaqus deck's NSET and ELSET of one name): the k-th of a
+/// name is compared with the k-th.
 std::string named_change(const CheckpointFile& f, const std::string& key, const Named& now,
                          const char* what) {
   const auto names = split(f.text(key + ".names"));
   const auto& prints = f.i64(key + ".fingerprints", static_cast<long long>(names.size()));
+  const auto before = [](const std::vector<std::string>& list, std::size_t i) {
+    return static_cast<std::size_t>(std::count(list.begin(), list.begin() + i, list[i]));
+  };
   for (std::size_t i = 0; i < names.size(); ++i) {
-    const auto it = std::find(now.names.begin(), now.names.end(), names[i]);
-    if (it == now.names.end())
+    const std::size_t j = nth(now.names, names[i], before(names, i));
+    if (j == now.names.size())
       return fmt::format("{} '{}' of the checkpoint's run is not in the case", what, names[i]);
-    if (now.prints[it - now.names.begin()] != prints[i])
+    if (now.prints[j] != prints[i])
       return fmt::format("{} '{}' is not the one the checkpoint was computed with", what, names[i]);
   }
-  for (const auto& n : now.names)
-    if (std::find(names.begin(), names.end(), n) == names.end())
-      return fmt::format("{} '{}' is new: the checkpoint's run had none of that name", what, n);
+  for (std::size_t i = 0; i < now.names.size(); ++i)
+    if (nth(names, now.names[i], before(now.names, i)) == names.size())
+      return fmt::format("{} '{}' is new: the checkpoint's run had none of that name", what,
+                         now.names[i]);
   return "";
 }
 

@@ -324,6 +324,28 @@ mpi_expect "more ranks than cells: ... and restarts from its checkpoint at t = 4
   run "$d/case.yaml" -o "$d/r2-from4" --quiet --restart "$d/r2" --from 4
 same "more ranks than cells: ... = serial to 1e-12" "$d/r1" "$d/r2-from4" 1e-12 displacement,stress
 
+# --- An Abaqus deck (issue 22) under mpirun: Gmsh's export of the 20-node box, whose sets share
+# their names across kinds (NSET and ELSET "fixed"), on 2 ranks and restarted from its
+# checkpoint on 3; rank 0 reads the deck.
+d="$work/inp-parallel"
+rm -rf "$d" && mkdir -p "$d"
+cp "$src/tests/cli/inputs/inp/box-hex.geo" "$d/"
+if gmsh -3 "$d/box-hex.geo" -order 2 -string "Mesh.SecondOrderIncomplete=1;" -o "$d/box.msh" \
+  >/dev/null 2>&1 && gmsh "$d/box.msh" -0 -string "Mesh.SaveGroupsOfNodes=1;" -format inp \
+  -o "$d/box.inp" >/dev/null 2>&1; then
+  sed -E -e 's|file: box.msh|file: box.inp|' -e 's|^solver: \{steps: 1\}|solver: {steps: 2}|' \
+    -e 's|^  reactions: \[fixed\]|  reactions: [fixed]\n  checkpoint: 1|' \
+    "$src/tests/cli/inputs/inp/box.yaml" >"$d/case.yaml"
+  expect "inp deck: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
+  mpi_expect "inp deck: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
+  same "inp deck: 2 ranks (MUMPS) = serial to 1e-10" "$d/r1" "$d/r2" 1e-10 displacement,stress
+  mpi_expect "inp deck: restarted on 3 ranks from the 2 ranks' checkpoint at t = 0.5" 0 "" 3 -- \
+    run "$d/case.yaml" -o "$d/r3" --quiet --restart "$d/r2" --from 0.5
+  same "inp deck: ... = serial to 1e-10" "$d/r1" "$d/r3" 1e-10 displacement,stress
+else
+  bad "inp deck: gmsh failed"
+fi
+
 # --- Errors under mpirun.
 d="$work/examples/lame-cylinder"
 sed -E 's/^  steps: 2/  stepz: 2/' "$d/case.yaml" >"$d/broken.yaml"
