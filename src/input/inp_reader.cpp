@@ -142,10 +142,12 @@ struct Deck {
       throw fail(l, "*INCLUDE nested more than 16 deep (does a file include itself?)");
     fs::path path(*input);
     if (path.is_relative()) path = fs::path(names[l.file]).parent_path() / path;
-    std::ifstream in(path, std::ios::binary);
+    std::error_code ec;
+    std::ifstream in;
+    if (fs::is_regular_file(path, ec)) in.open(path, std::ios::binary);
     if (!in)
       throw fail(l, "*INCLUDE: cannot open " + path.string() +
-                        " (a relative path is taken from the including file's folder)");
+                        " as a file (a relative path is taken from the including file's folder)");
     std::ostringstream ss;
     ss << in.rdbuf();
     names.push_back(path.string());
