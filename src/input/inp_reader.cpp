@@ -145,7 +145,7 @@ struct Deck {
     std::error_code ec;
     std::ifstream in;
     if (fs::is_regular_file(path, ec)) in.open(path, std::ios::binary);
-    if (!in)
+    if (!in.is_open() || !in)
       throw fail(l, "*INCLUDE: cannot open " + path.string() +
                         " as a file (a relative path is taken from the including file's folder)");
     std::ostringstream ss;

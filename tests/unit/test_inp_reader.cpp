@@ -277,7 +277,7 @@ TEST(InpReader, BadDecksNameTheLine) {
   const std::string nodes = node_card(tet_corners);  // lines 1..5
   auto expect = [&](const std::string& tail, const std::string& where, const std::string& what) {
     const std::string msg = error_of(nodes + tail);
-    EXPECT_NE(msg.find(where), std::string::npos) << msg;
+    EXPECT_NE(msg.find(where), std::string::npos) << tail << " -> " << msg;
     EXPECT_NE(msg.find(what), std::string::npos) << msg;
   };
   expect("*ELEMENT, TYPE=C3D27\n1,1,2,3,4\n", "deck.inp:6:", "not supported");
