@@ -606,7 +606,7 @@ class InpReader {
         item.label = label(f[0], l, s.nodes ? "node label" : "element label");
       else
         item.set = upper(unquote(f[0]));
-      if (!s.nodes) {
+      if (!s.nodes && !(f.size() == 1 && !item.set.empty())) {  // an ELSET alone: its exterior
         const std::string face = f.size() > 1 ? upper(f[1]) : "";
         if (face.size() != 2 || face[0] != 'S' || face[1] < '1' || face[1] > '6')
           throw fail(l, fmt::format("an element-based surface line is 'element or ELSET, face' "
@@ -767,7 +767,19 @@ class InpReader {
                                             s.name, item.set));
         each_label(it->second, [&](long e, int line) {
           (void)line;
-          add(e, item.side, item.line);
+          if (item.side > 0) {
+            add(e, item.side, item.line);
+            return;
+          }
+          // No face named: the set's elements' faces on the outside of the body (Abaqus:
+          // the exterior faces of the element set).
+          const Element* el = element(e, item.line, "surface '" + s.name + "'");
+          if (!el || el->kind.kind != ElementKind::Kind::volume) return;
+          for (int side = 1;; ++side) {
+            const std::vector<int> face = abaqus_face(el->kind.type, side);
+            if (face.empty()) break;
+            if (face_count().at(face_key(*el, face)) == 1) add(e, side, item.line);
+          }
         });
       }
       mesh.regions.push_back(std::move(r));
@@ -796,6 +808,28 @@ class InpReader {
       });
       if (!r.cells.empty()) mesh.regions.push_back(std::move(r));
     }
+  }
+
+  /// A face's corner labels, sorted: the same for the two cells that share the face.
+  std::array<long, 4> face_key(const Element& e, const std::vector<int>& face) const {
+    std::array<long, 4> key{0, 0, 0, 0};  // a triangle's 4th stays 0 (labels are positive)
+    const std::size_t corners = face.size() == 3 || face.size() == 6 ? 3 : 4;
+    for (std::size_t a = 0; a < corners; ++a) key[a] = conn_[e.offset + face[a]];
+    std::sort(key.begin(), key.end());
+    return key;
+  }
+
+  /// How many volume elements have each face (built when first asked).
+  const std::map<std::array<long, 4>, int>& face_count() {
+    if (face_count_.empty())
+      for (const Element& e : elements_)
+        if (e.kind.kind == ElementKind::Kind::volume)
+          for (int side = 1;; ++side) {
+            const std::vector<int> face = abaqus_face(e.kind.type, side);
+            if (face.empty()) break;
+            ++face_count_[face_key(e, face)];
+          }
+    return face_count_;
   }
 
   void volume_regions(Mesh& mesh) {
@@ -872,6 +906,7 @@ class InpReader {
   int instances_ = 0;
   bool in_assembly_ = false, in_instance_ = false;
 
+  std::map<std::array<long, 4>, int> face_count_;  // see face_count()
   std::unordered_map<long, int> body_node_;        // node label -> hencky node
   std::unordered_map<long, int> cell_of_element_;  // element label -> cell
 };

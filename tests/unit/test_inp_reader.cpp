@@ -189,6 +189,10 @@ right
 _top_s2, S2
 *SURFACE, NAME=far, TYPE=NODE
 12
+*SURFACE, NAME=skin
+all
+*SURFACE, NAME=right_skin
+right
 *MATERIAL, NAME=steel
 *ELASTIC
 2e11, 0.3
@@ -212,6 +216,9 @@ _top_s2, S2
   EXPECT_EQ(nodes_of("top", 2), (std::vector<long>{5, 6, 7, 8, 11, 12}));
   EXPECT_EQ(nodes_of("END_FACES", 2), (std::vector<long>{9, 10, 11, 12}));
   EXPECT_EQ(m.find_region("top", 2, 2, true)->cells.size(), 2u);
+  // An ELSET without a face: its elements' faces on the outside of the body.
+  EXPECT_EQ(m.find_region("skin", 2, 2, true)->cells.size(), 10u);
+  EXPECT_EQ(m.find_region("right_skin", 2, 2, true)->cells.size(), 5u);
   EXPECT_EQ(m.find_region("all", 3, 3, true)->cells, (std::vector<int>{0, 1}));
   EXPECT_EQ(m.find_region("right", 3, 3, true)->cells, (std::vector<int>{1}));
   EXPECT_EQ(m.find_region("wire", 0, 3, true), nullptr);  // line elements only
