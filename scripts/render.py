@@ -5,13 +5,23 @@
         [--component N] [--warp displacement --scale S] [--camera iso|x|y|z]
         [--title TEXT] [--units TEXT] [--size 1200x800] [--edges] [--range MIN MAX]
         [--time T] [--colormap NAME] [--no-colorbar] [--crop XMIN XMAX YMIN YMAX ZMIN ZMAX]
+        [--outline] [--no-surfaces]
 
 Shows the last time step (or --time T) as a surface coloured by the point or cell array
 --field (its magnitude if it has several components, unless --component N), on a white
 background with a colour bar titled with the field name (and --units). With --warp the shape
 is deformed by that point vector array (Warp By Vector, times --scale). With --crop only the
-cells of the (deformed) body that lie entirely inside the box are shown, and the camera frames
-them.
+part of the (deformed) body inside the box is shown, and the camera frames it: the body is cut
+along the box, or with --edges, the cells that lie entirely inside it are shown whole (so that
+the edges are the mesh's). With --outline (and --warp) the undeformed body's edges are drawn
+in grey over the deformed shape.
+
+The rigid surfaces of the case's `contact` (plane, sphere, cylinder, STL body) are drawn in
+grey where they are at the shown time: their shape from the result's summary.json, their
+translation from its history.csv (columns contact.<name>.motion.x|y|z), times --scale with
+--warp, so that a surface touches the body where it does in the run. Each is cut to the
+shown body's box, widened only towards the side where the surface lies (a ball above a quarter
+block is drawn as the quarter over it). --no-surfaces leaves them out.
 
 Debian's ParaView renders through X only (--force-offscreen-rendering crashes without a
 display), so without $DISPLAY the script runs itself again under `xvfb-run` (package xvfb);
@@ -21,8 +31,11 @@ scripts/setup-plots.sh installs ParaView (paraview, python3-paraview) and xvfb f
 import argparse
 import math
 import os
+import re
 import shutil
+import subprocess
 import sys
+import time
 
 BAR_PIXELS = 110  # height kept free at the bottom for the colour bar and its labels
 TITLE_PIXELS = 50  # and at the top for the title
@@ -30,6 +43,9 @@ TITLE_PIXELS = 50  # and at the top for the title
 
 def parse_args():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    # "-5e-4" is a number, not an option: argparse's own test takes only plain decimals as
+    # negative numbers, so that --crop 0 1 -5e-4 ... stopped with "expected 6 arguments".
+    p._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
     p.add_argument("result", help=".pvd, .vtu or .pvtu (a run on several MPI ranks)")
     p.add_argument("out", help="PNG file to write")
     p.add_argument("--field", default="von_mises", help="array to colour by (default von_mises)")
@@ -47,6 +63,10 @@ def parse_args():
     p.add_argument("--time", type=float, help="time step to show (default: the last one)")
     p.add_argument("--colormap", default="Turbo", help="ParaView colour map preset (default Turbo)")
     p.add_argument("--no-colorbar", action="store_true", help="no colour bar")
+    p.add_argument("--outline", action="store_true",
+                   help="with --warp: draw the undeformed body's edges in grey")
+    p.add_argument("--no-surfaces", action="store_true",
+                   help="do not draw the rigid contact surfaces")
     p.add_argument("--crop", type=float, nargs=6,
                    metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
                    help="show only the cells entirely inside this box (coordinates of the shown shape)")
@@ -64,7 +84,14 @@ def parse_args():
 
 
 def rerun_under_xvfb(args):
-    """No X display: run this script again under xvfb-run (ParaView on Debian needs X)."""
+    """No X display: run this script again under xvfb-run (ParaView on Debian needs X), and
+    exit with its status.
+
+    One run in five or so, back to back, ParaView aborts at once with "bad X server connection"
+    on the display xvfb-run has just made (Xvfb 21 and xvfb-run of Debian 12: the display a
+    finished run left is taken again before it is gone). This was the "--crop with --edges
+    crash": it has nothing to do with the options. Such a run is started again, up to 4 times.
+    """
     if os.environ.get("DISPLAY") or os.environ.get("HENCKY_RENDER_IN_XVFB"):
         return
     xvfb = shutil.which("xvfb-run")
@@ -75,8 +102,17 @@ def rerun_under_xvfb(args):
         sys.exit(1)
     screen = "-screen 0 %dx%dx24" % (max(args.size[0], 640), max(args.size[1], 480))
     env = dict(os.environ, HENCKY_RENDER_IN_XVFB="1")
+    command = [xvfb, "-a", "-s", screen, pv, os.path.abspath(sys.argv[0])] + sys.argv[1:]
     sys.stdout.flush()
-    os.execvpe(xvfb, [xvfb, "-a", "-s", screen, pv, os.path.abspath(sys.argv[0])] + sys.argv[1:], env)
+    for attempt in range(4):
+        run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, errors="replace")
+        if run.returncode == 0 or "bad X server connection" not in run.stderr:
+            break
+        time.sleep(0.5 * (attempt + 1))
+    sys.stdout.write(run.stdout)
+    sys.stderr.write(run.stderr)
+    sys.exit(run.returncode)
 
 
 def screen_frame(direction, up):
@@ -97,6 +133,8 @@ def screen_extents(source, r, u, bounds, t):
     pass); the bounding box corners if that fails."""
     try:
         from paraview import simple
+        if source is None:
+            raise ValueError("no source: the box's corners")
         calc = simple.Calculator(Input=source)
         calc.AttributeType = "Point Data"
         calc.ResultArrayName = "hencky_screen_xy"
@@ -142,6 +180,211 @@ def fit_camera(bounds, xr, yr, d, u, r, size, bottom, top, margin=0.06):
                      (bounds[5] - bounds[4]) ** 2) or 1.0
     position = [focal[k] + 2.0 * diag * d[k] for k in range(3)]
     return focal, position, 0.5 * h * per_pixel
+
+
+def read_surfaces(result, t, scale=1.0):
+    """[(name, description, motion)] of the run's rigid contact surfaces at time t: the
+    description from summary.json beside the result, the translation from the history.csv row
+    nearest t (zero when the run is older than those columns), times `scale`."""
+    import csv
+    import json
+    folder = os.path.dirname(os.path.abspath(result))
+    try:
+        with open(os.path.join(folder, "summary.json")) as f:
+            contact = json.load(f).get("contact", {})
+    except (OSError, ValueError):
+        return []
+    rows = []
+    try:
+        with open(os.path.join(folder, "history.csv")) as f:
+            rows = list(csv.DictReader(f))
+    except OSError:
+        pass
+    row = min(rows, key=lambda r: abs(float(r["time"]) - (t or 0.0))) if rows else {}
+    out = []
+    for name, c in sorted(contact.items()):
+        if "surface" not in c:
+            continue
+        motion = [scale * float(row.get("contact.%s.motion.%s" % (name, ax), 0.0) or 0.0)
+                  for ax in "xyz"]
+        out.append((name, c["surface"], motion))
+    return out
+
+
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v)) or 1.0
+    return [x / n for x in v]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def placed(simple, source, e1, e2, e3, origin):
+    """`source` moved rigidly: its x, y and z axes onto e1, e2 and e3, its origin to `origin`."""
+    moved = simple.Calculator(Input=source)
+    moved.CoordinateResults = 1
+    moved.Function = "+".join(
+        "(%.17g*coordsX+%.17g*coordsY+%.17g*coordsZ+%.17g)*%s" % (e1[k], e2[k], e3[k], origin[k],
+                                                                 hat)
+        for k, hat in enumerate(("iHat", "jHat", "kHat")))
+    return moved
+
+
+def sphere_section(simple, desc, motion, plane_point, plane_normal):
+    """The sphere's section by a plane (a filled disk), or None when the plane misses it."""
+    c = [desc["center"][k] + motion[k] for k in range(3)]
+    n = unit(plane_normal)
+    dist = sum((plane_point[k] - c[k]) * n[k] for k in range(3))
+    if abs(dist) >= desc["radius"]:
+        return None
+    disk = simple.Disk(InnerRadius=0.0, OuterRadius=math.sqrt(desc["radius"] ** 2 - dist ** 2),
+                       CircumferentialResolution=720, RadialResolution=1)
+    e1 = unit(cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0]))
+    return placed(simple, disk, e1, cross(n, e1), n, [c[k] + dist * n[k] for k in range(3)])
+
+
+def surface_source(simple, desc, motion, bounds):
+    """A ParaView source of the rigid surface `desc` moved by `motion`, and its centre: the
+    sphere's centre, the cylinder's axis point nearest the body, the plane's point under the
+    body's centre, the STL body's box centre. Planes and cylinders are drawn as large as the
+    body's box."""
+    centre_body = [0.5 * (bounds[2 * k] + bounds[2 * k + 1]) for k in range(3)]
+    diag = math.sqrt(sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2 for k in range(3))) or 1.0
+    shape = desc["shape"]
+    if shape == "sphere":
+        # The cap that faces the body, finely divided: a whole sphere's facets (2 degrees)
+        # would be larger than a close-up of its contact.
+        c = [desc["center"][k] + motion[k] for k in range(3)]
+        radius = desc["radius"]
+        towards = [centre_body[k] - c[k] for k in range(3)]
+        if math.sqrt(sum(x * x for x in towards)) < 1e-12 * radius:
+            towards = [0.0, 0.0, -1.0]
+        axis = unit(towards)
+        # The angle, seen from the centre, within which the body's box lies (generously).
+        half = math.degrees(math.atan2(1.5 * diag, math.sqrt(sum(x * x for x in towards))))
+        half = min(180.0, max(2.0 * half, 1.0))
+        cap = simple.Sphere(Center=[0, 0, 0], Radius=radius, ThetaResolution=360,
+                            PhiResolution=400, StartPhi=180.0 - half, EndPhi=180.0)
+        # The cap's pole (-z) onto `axis`, its centre to c.
+        e1 = unit(cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0]))
+        return placed(simple, cap, e1, cross(e1, axis), [-x for x in axis], c), c
+    if shape == "plane":
+        n = unit(desc["normal"])
+        p0 = [desc["point"][k] + motion[k] for k in range(3)]
+        along = sum((centre_body[k] - p0[k]) * n[k] for k in range(3))
+        c = [centre_body[k] - along * n[k] for k in range(3)]
+        helper = [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0]
+        e1 = unit(cross(n, helper))
+        e2 = cross(n, e1)
+        origin = [c[k] - diag * (e1[k] + e2[k]) for k in range(3)]
+        return simple.Plane(Origin=origin, Point1=[origin[k] + 2 * diag * e1[k] for k in range(3)],
+                            Point2=[origin[k] + 2 * diag * e2[k] for k in range(3)],
+                            XResolution=1, YResolution=1), c
+    if shape == "cylinder":
+        a = unit(desc["axis"])
+        p0 = [desc["point"][k] + motion[k] for k in range(3)]
+        along = sum((centre_body[k] - p0[k]) * a[k] for k in range(3))
+        c = [p0[k] + along * a[k] for k in range(3)]
+        line = simple.Line(Point1=[c[k] - diag * a[k] for k in range(3)],
+                           Point2=[c[k] + diag * a[k] for k in range(3)], Resolution=1)
+        return simple.Tube(Input=line, Radius=desc["radius"], NumberofSides=1440, Capping=0), c
+    reader = simple.STLReader(FileNames=[desc["file"]])
+    moved = simple.Transform(Input=reader)
+    moved.Transform.Scale = [desc.get("scale", 1.0)] * 3
+    moved.Transform.Translate = motion
+    moved.UpdatePipeline()
+    b = moved.GetDataInformation().GetBounds()
+    return moved, [0.5 * (b[2 * k] + b[2 * k + 1]) for k in range(3)]
+
+
+def grown(bounds, source):
+    """`bounds` (None: empty) grown by the box of what `source` holds."""
+    source.UpdatePipeline()
+    if source.GetDataInformation().GetNumberOfPoints() == 0:
+        return bounds
+    b = source.GetDataInformation().GetBounds()
+    if bounds is None:
+        return list(b)
+    return [min(bounds[i], b[i]) if i % 2 == 0 else max(bounds[i], b[i]) for i in range(6)]
+
+
+def show_surfaces(simple, view, surfaces, bounds, section=None):
+    """Draws each rigid surface in grey, cut to the body's box `bounds` widened (per axis)
+    towards the surface where its centre lies beyond the box. `section`: (point, normal) of the
+    plane of a cut the camera looks at: a sphere's section there is drawn filled. Returns the
+    bounds of what was drawn (None when nothing was)."""
+    drawn = None
+    diag = math.sqrt(sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2 for k in range(3))) or 1.0
+    margin = 1e-3 * diag
+    for name, desc, motion in surfaces:
+        try:
+            src, c = surface_source(simple, desc, motion, bounds)
+        except Exception as e:  # noqa: BLE001 -- a surface that cannot be drawn is left out
+            print("warning: rigid surface '%s' not drawn: %s" % (name, e), file=sys.stderr)
+            continue
+        src.UpdatePipeline()
+        sb = src.GetDataInformation().GetBounds()
+        lo = [bounds[2 * k] - margin for k in range(3)]
+        hi = [bounds[2 * k + 1] + margin for k in range(3)]
+        for k in range(3):
+            if c[k] > bounds[2 * k + 1]:
+                hi[k] = max(hi[k], sb[2 * k + 1] + margin)
+            if c[k] < bounds[2 * k]:
+                lo[k] = min(lo[k], sb[2 * k] - margin)
+        clip = simple.Clip(Input=src)
+        clip.ClipType = "Box"
+        clip.ClipType.UseReferenceBounds = 0
+        clip.ClipType.Position = lo
+        clip.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+        clip.Invert = 1  # keep what is inside the box
+        clip.Exact = 1
+        drawn = grown(drawn, clip)
+        d = simple.Show(clip, view)
+        d.SetRepresentationType("Surface")
+        d.ColorArrayName = ['POINTS', '']
+        d.AmbientColor = d.DiffuseColor = [0.62, 0.63, 0.66]
+        d.Opacity = 0.55
+        # Where the box cuts the surface: in a view along an axis of a cut body this is the
+        # surface's profile in the cut (a ball's arc over its dent).
+        cut = simple.FeatureEdges(Input=simple.ExtractSurface(Input=clip))
+        cut.BoundaryEdges = 1
+        cut.FeatureEdges = 0
+        cut.NonManifoldEdges = 0
+        cut.ManifoldEdges = 0
+        e = simple.Show(cut, view)
+        e.ColorArrayName = ['POINTS', '']
+        e.AmbientColor = e.DiffuseColor = [0.25, 0.25, 0.3]
+        e.LineWidth = 2.5
+        if section and desc["shape"] == "sphere":
+            disk = sphere_section(simple, desc, motion, *section)
+            if disk is not None:
+                inside = simple.Clip(Input=disk)
+                inside.ClipType = "Box"
+                inside.ClipType.UseReferenceBounds = 0
+                inside.ClipType.Position = lo
+                inside.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+                inside.Invert = 1
+                inside.Exact = 1
+                drawn = grown(drawn, inside)
+                f = simple.Show(inside, view)
+                f.ColorArrayName = ['POINTS', '']
+                f.AmbientColor = f.DiffuseColor = [0.62, 0.63, 0.66]
+    return drawn
+
+
+def show_outline(simple, view, undeformed):
+    """The undeformed body's edges (feature and boundary edges of its surface) in grey."""
+    surface = simple.ExtractSurface(Input=undeformed)
+    edges = simple.FeatureEdges(Input=surface)
+    edges.FeatureAngle = 30.0
+    edges.BoundaryEdges = 0  # a cut's facets are not the body's edges
+    edges.NonManifoldEdges = 0
+    edges.ManifoldEdges = 0
+    d = simple.Show(edges, view)
+    d.ColorArrayName = ['POINTS', '']
+    d.AmbientColor = d.DiffuseColor = [0.35, 0.35, 0.35]
+    d.LineWidth = 1.5
 
 
 def find_array(source, name):
@@ -197,17 +440,30 @@ def main():
         source.ScaleFactor = args.scale
         source.UpdatePipeline(t) if t is not None else source.UpdatePipeline()
 
-    if args.crop:
+    def cropped(what):
+        """`what` cut to the --crop box; with --edges the cells entirely inside it instead
+        (whole cells, so that the edges are the mesh's)."""
         lo, hi = args.crop[0::2], args.crop[1::2]
-        # Whole cells (those entirely inside the box), so that --edges shows the mesh.
-        crop = simple.ExtractCellsByRegion(Input=source)
+        if not args.edges:
+            clip = simple.Clip(Input=what)
+            clip.ClipType = "Box"
+            clip.Exact = 1  # six plane cuts: the implicit box left jagged quadratic cells
+            clip.ClipType.UseReferenceBounds = 0
+            clip.ClipType.Position = lo
+            clip.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+            clip.Invert = 1  # keep what is inside the box
+            return clip
+        crop = simple.ExtractCellsByRegion(Input=what)
         crop.IntersectWith = "Box"
         crop.IntersectWith.UseReferenceBounds = 0
         crop.IntersectWith.Position = lo
         crop.IntersectWith.Length = [h - l for l, h in zip(lo, hi)]
         crop.ExtractionSide = "inside"
         crop.Extractintersected = 0
-        source = crop
+        return crop
+
+    if args.crop:
+        source = cropped(source)
         source.UpdatePipeline(t) if t is not None else source.UpdatePipeline()
         if source.GetDataInformation().GetNumberOfCells() == 0:
             print("error: nothing of the body lies inside --crop %s" % " ".join("%g" % v for v in args.crop),
@@ -242,6 +498,29 @@ def main():
 
     display = simple.Show(source, view)
     display.SetRepresentationType("Surface With Edges" if args.edges else "Surface")
+    surfaces_bounds = None
+    if args.outline and args.warp:
+        show_outline(simple, view, cropped(reader) if args.crop else reader)
+    if not args.no_surfaces:
+        # With --warp the displacements are drawn --scale times: so are the motions.
+        body = source.GetDataInformation().GetBounds()
+        section = None
+        if args.crop and args.camera != "iso":
+            # The cut the camera looks at: the crop box's face towards it.
+            axis = "xyz".index(args.camera)
+            towards = 1.0 if args.camera != "y" else -1.0  # the cameras of `directions` below
+            normal = [towards if k == axis else 0.0 for k in range(3)]
+            point = [0.5 * (body[2 * k] + body[2 * k + 1]) for k in range(3)]
+            point[axis] = args.crop[2 * axis + (1 if towards > 0 else 0)]
+            section = (point, normal)
+        drawn = show_surfaces(simple, view,
+                              read_surfaces(args.result, t, args.scale if args.warp else 1.0),
+                              body, section)
+        if drawn is not None and args.crop:
+            drawn = [max(drawn[i], args.crop[i]) if i % 2 == 0 else min(drawn[i], args.crop[i])
+                     for i in range(6)]
+        if drawn is not None and all(drawn[2 * k] <= drawn[2 * k + 1] for k in range(3)):
+            surfaces_bounds = drawn
     if args.edges:
         display.EdgeColor = [0.15, 0.15, 0.15]
     simple.ColorBy(display, (assoc, args.field))
@@ -301,6 +580,12 @@ def main():
     d, u, r = screen_frame(*directions[args.camera])
     b = source.GetDataInformation().GetBounds()
     xr, yr = screen_extents(source, r, u, b, t)
+    if surfaces_bounds is not None:
+        # The rigid surfaces drawn (within --crop) are framed too: the corners of their box.
+        sx, sy = screen_extents(None, r, u, surfaces_bounds, t)
+        xr, yr = (min(xr[0], sx[0]), max(xr[1], sx[1])), (min(yr[0], sy[0]), max(yr[1], sy[1]))
+        b = [min(b[i], surfaces_bounds[i]) if i % 2 == 0 else max(b[i], surfaces_bounds[i])
+             for i in range(6)]
     focal, position, scale = fit_camera(b, xr, yr, d, u, r, args.size,
                                         bottom=0 if args.no_colorbar else BAR_PIXELS,
                                         top=TITLE_PIXELS if args.title else 0)

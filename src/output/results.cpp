@@ -39,6 +39,25 @@ double tensor_component(const Voigt& engineering, int c) {
 std::array<const Voigt*, 4> strains_of(const ProbeValues& v) {
   return {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain};
 }
+/// The rigid surface where it starts (its `motion` moves it), for summary.json: what
+/// scripts/render.py needs to draw it.
+nlohmann::json surface_json(const ContactSpec& c) {
+  const auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
+  switch (c.shape) {
+    case ContactSpec::Shape::plane:
+      return {{"shape", "plane"}, {"point", vec(c.point)}, {"normal", vec(c.normal)}};
+    case ContactSpec::Shape::sphere:
+      return {{"shape", "sphere"}, {"center", vec(c.center)}, {"radius", c.radius}};
+    case ContactSpec::Shape::cylinder:
+      return {{"shape", "cylinder"},
+              {"point", vec(c.point)},
+              {"axis", vec(c.axis)},
+              {"radius", c.radius}};
+    case ContactSpec::Shape::mesh:
+      return {{"shape", "mesh"}, {"file", c.file.string()}, {"scale", c.scale}};
+  }
+  return {};
+}
 }  // namespace
 
 std::vector<Voigt> recover_nodal_stress(const Model& model, const State& state) {
@@ -394,6 +413,9 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
       for (auto c : paraview_names) h << ',' << p.spec->name << '.' << field << '.' << c;
     h << ',' << p.spec->name << ".equivalent_elastoplastic_strain";
   }
+  // Where each rigid surface is: its translation at the step (scripts/render.py draws it).
+  for (const auto& c : model_.contacts())
+    for (auto ax : axes) h << ",contact." << c.spec->name << ".motion." << ax;
   h << '\n';
   header_ = h.str();
   history_ << header_;
@@ -493,6 +515,13 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
     for (const Voigt* e : strains_of(v))
       for (int c = 0; c < 6; ++c) history_ << fmt::format(",{:.17g}", tensor_component(*e, c));
     history_ << fmt::format(",{:.17g}", v.eps_ep);
+  }
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Vec3 m = model_.contacts()[k].motion(report.time);
+    history_ << fmt::format(",{:.17g},{:.17g},{:.17g}", m.x() + 0.0, m.y() + 0.0, m.z() + 0.0);
+    auto& j = contact_json[model_.contacts()[k].spec->name];
+    for (int d = 0; d < 3; ++d) j["motion"][axes[d]] = m[d] + 0.0;  // not -0
+    j["surface"] = surface_json(*model_.contacts()[k].spec);
   }
   history_ << '\n';
   history_.flush();
