@@ -309,10 +309,11 @@ def grown(bounds, source):
     return [min(bounds[i], b[i]) if i % 2 == 0 else max(bounds[i], b[i]) for i in range(6)]
 
 
-def show_surfaces(simple, view, surfaces, bounds, section=None):
+def show_surfaces(simple, view, surfaces, bounds, section=None, crop=None):
     """Draws each rigid surface in grey, cut to the body's box `bounds` widened (per axis)
     towards the surface where its centre lies beyond the box. `section`: (point, normal) of the
-    plane of a cut the camera looks at: a sphere's section there is drawn filled. Returns the
+    plane of a cut the camera looks at: a sphere's section there is drawn filled. Nothing is
+    drawn outside `crop` (XMIN XMAX YMIN YMAX ZMIN ZMAX) when it is given. Returns the
     bounds of what was drawn (None when nothing was)."""
     drawn = None
     diag = math.sqrt(sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2 for k in range(3))) or 1.0
@@ -328,10 +329,15 @@ def show_surfaces(simple, view, surfaces, bounds, section=None):
         lo = [bounds[2 * k] - margin for k in range(3)]
         hi = [bounds[2 * k + 1] + margin for k in range(3)]
         for k in range(3):
+            # Towards the surface: to its end, or with --crop to the crop box's side.
             if c[k] > bounds[2 * k + 1]:
-                hi[k] = max(hi[k], sb[2 * k + 1] + margin)
+                hi[k] = crop[2 * k + 1] if crop else max(hi[k], sb[2 * k + 1] + margin)
             if c[k] < bounds[2 * k]:
-                lo[k] = min(lo[k], sb[2 * k] - margin)
+                lo[k] = crop[2 * k] if crop else min(lo[k], sb[2 * k] - margin)
+            if crop:
+                lo[k], hi[k] = max(lo[k], crop[2 * k]), min(hi[k], crop[2 * k + 1])
+        if any(lo[k] >= hi[k] for k in range(3)):
+            continue
         clip = simple.Clip(Input=src)
         clip.ClipType = "Box"
         clip.ClipType.UseReferenceBounds = 0
@@ -359,11 +365,13 @@ def show_surfaces(simple, view, surfaces, bounds, section=None):
         if section and desc["shape"] == "sphere":
             disk = sphere_section(simple, desc, motion, *section)
             if disk is not None:
+                # The disk lies on a face of the box: the box is widened across it.
+                across = [margin if abs(section[1][k]) > 0.5 else 0.0 for k in range(3)]
                 inside = simple.Clip(Input=disk)
                 inside.ClipType = "Box"
                 inside.ClipType.UseReferenceBounds = 0
-                inside.ClipType.Position = lo
-                inside.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+                inside.ClipType.Position = [lo[k] - across[k] for k in range(3)]
+                inside.ClipType.Length = [hi[k] - lo[k] + 2 * across[k] for k in range(3)]
                 inside.Invert = 1
                 inside.Exact = 1
                 drawn = grown(drawn, inside)
@@ -373,14 +381,26 @@ def show_surfaces(simple, view, surfaces, bounds, section=None):
     return drawn
 
 
-def show_outline(simple, view, undeformed):
-    """The undeformed body's edges (feature and boundary edges of its surface) in grey."""
-    surface = simple.ExtractSurface(Input=undeformed)
-    edges = simple.FeatureEdges(Input=surface)
+def show_outline(simple, view, undeformed, crop=None):
+    """The undeformed body's edges (the feature edges of its surface) in grey, cut to `crop`.
+    The edges are taken before the cut: a cut's facets would add edges of their own."""
+    edges = simple.FeatureEdges(Input=simple.ExtractSurface(Input=undeformed))
     edges.FeatureAngle = 30.0
-    edges.BoundaryEdges = 0  # a cut's facets are not the body's edges
+    edges.BoundaryEdges = 0
     edges.NonManifoldEdges = 0
     edges.ManifoldEdges = 0
+    if crop:
+        # Widened a little: the edges on the box's faces (a cut on a symmetry plane) stay.
+        m = 1e-3 * math.sqrt(sum((crop[2 * k + 1] - crop[2 * k]) ** 2 for k in range(3)))
+        lo, hi = [v - m for v in crop[0::2]], [v + m for v in crop[1::2]]
+        clipped = simple.Clip(Input=edges)
+        clipped.ClipType = "Box"
+        clipped.ClipType.UseReferenceBounds = 0
+        clipped.ClipType.Position = lo
+        clipped.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+        clipped.Invert = 1
+        clipped.Exact = 1
+        edges = clipped
     d = simple.Show(edges, view)
     d.ColorArrayName = ['POINTS', '']
     d.AmbientColor = d.DiffuseColor = [0.35, 0.35, 0.35]
@@ -500,7 +520,7 @@ def main():
     display.SetRepresentationType("Surface With Edges" if args.edges else "Surface")
     surfaces_bounds = None
     if args.outline and args.warp:
-        show_outline(simple, view, cropped(reader) if args.crop else reader)
+        show_outline(simple, view, reader, args.crop)
     if not args.no_surfaces:
         # With --warp the displacements are drawn --scale times: so are the motions.
         body = source.GetDataInformation().GetBounds()
@@ -515,10 +535,7 @@ def main():
             section = (point, normal)
         drawn = show_surfaces(simple, view,
                               read_surfaces(args.result, t, args.scale if args.warp else 1.0),
-                              body, section)
-        if drawn is not None and args.crop:
-            drawn = [max(drawn[i], args.crop[i]) if i % 2 == 0 else min(drawn[i], args.crop[i])
-                     for i in range(6)]
+                              body, section, args.crop)
         if drawn is not None and all(drawn[2 * k] <= drawn[2 * k + 1] for k in range(3)):
             surfaces_bounds = drawn
     if args.edges:

@@ -4,8 +4,8 @@
 // Refine with hc (the CLI test uses hc = a/3 = 4.7e-5).
 a = 1.4142e-4;        // Hertz contact radius at the full approach (sqrt(R delta))
 L = 15e-3;            // block size, about 100 a
-hc = a / 5;           // element size at the contact
-rf = 1.1 * a;
+hc = a / 6;           // element size at the contact
+rf = 1.6 * a;         // the refined ball: the contact and the plastic zone under it
 g = 0.25;
 hmax = L / 4;
 Point(1) = {0, 0, 0}; Point(2) = {L, 0, 0}; Point(3) = {L, L, 0}; Point(4) = {0, L, 0};

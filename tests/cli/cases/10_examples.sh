@@ -163,6 +163,29 @@ if head -c 8 "$d/force-approach.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 
 else bad "ball-indentation: force-approach.png is not a PNG"; fi
 ex_check "ball-indentation: report, the largest contact force is history's, at t = 1" "$s" \
   's["report"]["contact_force"]["ball"]["time"] == 1 and close(s["report"]["contact_force"]["ball"]["value"], max(float(r["contact.ball.force"]) for r in __import__("csv").DictReader(open("'"$hc"'"))), 1e-12)'
+# The same ball past yield (dent.yaml: sigma_y = 600 MPa, H = 2 GPa), on the coarse mesh. Hertz's
+# first yield (0.62 p0 = sigma_y, p0 = 1.61 sigma_y) is at an approach of 0.432 um, between the
+# steps at 0.4 um (t = 0.2) and 0.6 um (t = 0.3); below it the force is Hertz's.
+expect "ball-indentation: dent.yaml (plastic) runs on the coarse mesh, no cut-back" 0 "" -- \
+  run "$d/dent.yaml" --quiet
+s="$d/dent.out/summary.json"; hd="$d/dent.out/history.csv"
+ex_check "ball-indentation, dent: all 18 steps converged, no warnings" "$s" \
+  's["status"] == "converged" and s["steps"] == 18 and not s.get("warnings")'
+ex_check "ball-indentation, dent: elastic below Hertz's first yield (t = 0.2), plastic above (t = 0.3)" "$hd" \
+  'at(0.2)["plastic_points"] == 0 and at(0.3)["plastic_points"] > 0'
+ex_check "ball-indentation, dent: force at 0.4 um (elastic) vs Hertz within 2%" "$hd" \
+  'close(-4 * at(0.2)["contact.ball.resultant.z"], 87.028527 * 0.2 ** 1.5, 0.02)'
+ex_check "ball-indentation, dent: at 2 um the yielded block carries less than Hertz's 87.03 N" "$hd" \
+  '-4 * at(1.0)["contact.ball.resultant.z"] < 0.95 * 87.028527'
+ex_check "ball-indentation, dent: unloading is elastic (no point yields after t = 1)" "$hd" \
+  'all(r["plastic_points"] == 0 for r in h if r["time"] > 1)'
+ex_check "ball-indentation, dent: released at t = 2, a dent of more than 0.2 um is left" "$hd" \
+  'at(2.0)["contact.ball.nodes"] == 0 and at(2.0)["centre.displacement.z"] < -0.2e-6'
+ex_check "ball-indentation, dent: the bottom's reaction balances the contact force to 1e-6" "$hd" \
+  'all(abs(r["reaction.bottom.z"] + r["contact.ball.resultant.z"]) <= 1e-6 * 87.0 for r in h)'
+expect_cmd "ball-indentation, dent: plot_dent.py draws the force-indentation curve" 0 \
+  "wrote .*P = [67][0-9.]+ N \(Hertz elastic 87.03\); dent 0\.[2-9][0-9]* µm" -- \
+  env PYTHONPATH="$src/scripts" "$ex_py" "$d/plot_dent.py" "$d/dent.out" "$d/dent-curve.png"
 
 # --- Cantilever hook (geometry: updated): a strip curled by a follower pressure, q L^3/EI = 18 t,
 #     against the rod solution of tests/tools/follower_rod.py (tip at t = 1: u_x = -1.2120 L,
