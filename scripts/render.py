@@ -329,11 +329,14 @@ def show_surfaces(simple, view, surfaces, bounds, section=None, crop=None):
         lo = [bounds[2 * k] - margin for k in range(3)]
         hi = [bounds[2 * k + 1] + margin for k in range(3)]
         for k in range(3):
-            # Towards the surface: to its end, or with --crop to the crop box's side.
+            # Towards the surface: to its end but at most the body's size further (a large
+            # roller under a small part), or with --crop to the crop box's side.
             if c[k] > bounds[2 * k + 1]:
-                hi[k] = crop[2 * k + 1] if crop else max(hi[k], sb[2 * k + 1] + margin)
+                hi[k] = crop[2 * k + 1] if crop else max(
+                    hi[k], min(sb[2 * k + 1] + margin, bounds[2 * k + 1] + diag))
             if c[k] < bounds[2 * k]:
-                lo[k] = crop[2 * k] if crop else min(lo[k], sb[2 * k] - margin)
+                lo[k] = crop[2 * k] if crop else min(
+                    lo[k], max(sb[2 * k] - margin, bounds[2 * k] - diag))
             if crop:
                 lo[k], hi[k] = max(lo[k], crop[2 * k]), min(hi[k], crop[2 * k + 1])
         if any(lo[k] >= hi[k] for k in range(3)):
