@@ -298,6 +298,19 @@ def surface_source(simple, desc, motion, bounds):
     return moved, [0.5 * (b[2 * k] + b[2 * k + 1]) for k in range(3)]
 
 
+def box_cut(simple, source, lo, hi):
+    """What of `source` lies inside the box lo..hi, cut along the box's faces (six exact plane
+    cuts: ParaView's implicit box left jagged pieces of quadratic cells)."""
+    clip = simple.Clip(Input=source)
+    clip.ClipType = "Box"
+    clip.ClipType.UseReferenceBounds = 0
+    clip.ClipType.Position = list(lo)
+    clip.ClipType.Length = [h - l for l, h in zip(lo, hi)]
+    clip.Invert = 1  # keep what is inside
+    clip.Exact = 1
+    return clip
+
+
 def grown(bounds, source):
     """`bounds` (None: empty) grown by the box of what `source` holds."""
     source.UpdatePipeline()
@@ -341,13 +354,7 @@ def show_surfaces(simple, view, surfaces, bounds, section=None, crop=None):
                 lo[k], hi[k] = max(lo[k], crop[2 * k]), min(hi[k], crop[2 * k + 1])
         if any(lo[k] >= hi[k] for k in range(3)):
             continue
-        clip = simple.Clip(Input=src)
-        clip.ClipType = "Box"
-        clip.ClipType.UseReferenceBounds = 0
-        clip.ClipType.Position = lo
-        clip.ClipType.Length = [h - l for l, h in zip(lo, hi)]
-        clip.Invert = 1  # keep what is inside the box
-        clip.Exact = 1
+        clip = box_cut(simple, src, lo, hi)
         drawn = grown(drawn, clip)
         d = simple.Show(clip, view)
         d.SetRepresentationType("Surface")
@@ -370,13 +377,8 @@ def show_surfaces(simple, view, surfaces, bounds, section=None, crop=None):
             if disk is not None:
                 # The disk lies on a face of the box: the box is widened across it.
                 across = [margin if abs(section[1][k]) > 0.5 else 0.0 for k in range(3)]
-                inside = simple.Clip(Input=disk)
-                inside.ClipType = "Box"
-                inside.ClipType.UseReferenceBounds = 0
-                inside.ClipType.Position = [lo[k] - across[k] for k in range(3)]
-                inside.ClipType.Length = [hi[k] - lo[k] + 2 * across[k] for k in range(3)]
-                inside.Invert = 1
-                inside.Exact = 1
+                inside = box_cut(simple, disk, [lo[k] - across[k] for k in range(3)],
+                                 [hi[k] + across[k] for k in range(3)])
                 drawn = grown(drawn, inside)
                 f = simple.Show(inside, view)
                 f.ColorArrayName = ['POINTS', '']
@@ -396,14 +398,7 @@ def show_outline(simple, view, undeformed, crop=None):
         # Widened a little: the edges on the box's faces (a cut on a symmetry plane) stay.
         m = 1e-3 * math.sqrt(sum((crop[2 * k + 1] - crop[2 * k]) ** 2 for k in range(3)))
         lo, hi = [v - m for v in crop[0::2]], [v + m for v in crop[1::2]]
-        clipped = simple.Clip(Input=edges)
-        clipped.ClipType = "Box"
-        clipped.ClipType.UseReferenceBounds = 0
-        clipped.ClipType.Position = lo
-        clipped.ClipType.Length = [h - l for l, h in zip(lo, hi)]
-        clipped.Invert = 1
-        clipped.Exact = 1
-        edges = clipped
+        edges = box_cut(simple, edges, lo, hi)
     d = simple.Show(edges, view)
     d.ColorArrayName = ['POINTS', '']
     d.AmbientColor = d.DiffuseColor = [0.35, 0.35, 0.35]
@@ -468,14 +463,7 @@ def main():
         (whole cells, so that the edges are the mesh's)."""
         lo, hi = args.crop[0::2], args.crop[1::2]
         if not args.edges:
-            clip = simple.Clip(Input=what)
-            clip.ClipType = "Box"
-            clip.Exact = 1  # six plane cuts: the implicit box left jagged quadratic cells
-            clip.ClipType.UseReferenceBounds = 0
-            clip.ClipType.Position = lo
-            clip.ClipType.Length = [h - l for l, h in zip(lo, hi)]
-            clip.Invert = 1  # keep what is inside the box
-            return clip
+            return box_cut(simple, what, lo, hi)
         crop = simple.ExtractCellsByRegion(Input=what)
         crop.IntersectWith = "Box"
         crop.IntersectWith.UseReferenceBounds = 0
