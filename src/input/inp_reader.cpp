@@ -265,6 +265,7 @@ struct Member {
 struct Set {
   std::string name;  ///< as first written
   int line = 0;      ///< where it was first defined
+  bool internal = false;  ///< INTERNAL (Abaqus/CAE's sets behind a surface): not a region
   std::vector<Member> members;
   std::size_t count = 0;  ///< labels over all members (with repeats)
 };
@@ -529,6 +530,7 @@ class InpReader {
     if (!name) throw fail(at, fmt::format("*{} needs {}=<name>", kind, kind));
     auto& sets = of_nodes ? nsets_ : elsets_;
     Set& s = open_set(sets, *name, at);
+    s.internal = s.internal || k.has("INTERNAL");
     const bool generate = k.has("GENERATE");
     const bool of_elsets = of_nodes && k.has("ELSET");  // *NSET, ELSET: nodes of element sets
     for (int l = first; l < end; ++l) {
@@ -692,6 +694,7 @@ class InpReader {
 
   void node_regions(Mesh& mesh) const {
     for (const auto& key : nset_order_) {
+      if (nsets_.at(key).internal) continue;
       Region r{nsets_.at(key).name, 0, {}, {}};
       add_nodes(nsets_.at(key), r);
       mesh.regions.push_back(std::move(r));
@@ -787,6 +790,7 @@ class InpReader {
     // ELSETs of face elements (Gmsh's and cgx's export of surfaces).
     for (const auto& key : elset_order_) {
       const Set& s = elsets_.at(key);
+      if (s.internal) continue;
       Region r{s.name, 2, {}, {}};
       std::set<long> seen;
       each_label(s, [&](long label, int line) {
@@ -835,6 +839,7 @@ class InpReader {
   void volume_regions(Mesh& mesh) {
     for (const auto& key : elset_order_) {
       const Set& s = elsets_.at(key);
+      if (s.internal) continue;
       Region r{s.name, 3, {}, {}};
       bool faces_only = s.count > 0;
       each_label(s, [&](long label, int line) {

@@ -222,6 +222,7 @@ right
   EXPECT_EQ(m.find_region("all", 3, 3, true)->cells, (std::vector<int>{0, 1}));
   EXPECT_EQ(m.find_region("right", 3, 3, true)->cells, (std::vector<int>{1}));
   EXPECT_EQ(m.find_region("wire", 0, 3, true), nullptr);  // line elements only
+  EXPECT_EQ(m.find_region("_top_s2", 0, 3, true), nullptr);  // INTERNAL: the surface's only
   EXPECT_EQ(m.find_region("top", 0, 3, false), nullptr);  // as written: "Top"
   EXPECT_EQ(m.regions[m.cell_region[1]].name, "right");
   ASSERT_EQ(warnings.size(), 3u);
