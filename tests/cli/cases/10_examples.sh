@@ -163,6 +163,10 @@ if head -c 8 "$d/force-approach.png" | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 
 else bad "ball-indentation: force-approach.png is not a PNG"; fi
 ex_check "ball-indentation: report, the largest contact force is history's, at t = 1" "$s" \
   's["report"]["contact_force"]["ball"]["time"] == 1 and close(s["report"]["contact_force"]["ball"]["value"], max(float(r["contact.ball.force"]) for r in __import__("csv").DictReader(open("'"$hc"'"))), 1e-12)'
+ex_check "ball-indentation: history.csv has where the ball is (render.py draws it there)" "$hc" \
+  'close(at(1.0)["contact.ball.motion.z"], -2e-6, 1e-12) and at(2.0)["contact.ball.motion.z"] == 0 and all(r["contact.ball.motion.x"] == 0 for r in h)'
+ex_check "ball-indentation: summary.json describes the sphere" "$s" \
+  's["contact"]["ball"]["surface"] == {"shape": "sphere", "center": [0, 0, 0.01], "radius": 0.01}'
 # The same ball past yield (dent.yaml: sigma_y = 600 MPa, H = 2 GPa), on the coarse mesh. Hertz's
 # first yield (0.62 p0 = sigma_y, p0 = 1.61 sigma_y) is at an approach of 0.432 um, between the
 # steps at 0.4 um (t = 0.2) and 0.6 um (t = 0.3); below it the force is Hertz's.
