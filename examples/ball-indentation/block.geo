@@ -1,7 +1,7 @@
 // A quarter of a steel block (x, y >= 0, top face z = 0) under a rigid ball pressed into it at
 // the origin. 10-node tetrahedra (mesh.order: 2 in the case), graded: size hc within rf of the
 // contact point, growing by g per unit distance beyond it, at most hmax.
-// Refine with hc (the CLI test uses hc = a/3 = 4.7e-5).
+// Refine with hc (the CLI test uses hc = a/3 = 4.7e-5 within rf = 1.1 a).
 a = 1.4142e-4;        // Hertz contact radius at the full approach (sqrt(R delta))
 L = 15e-3;            // block size, about 100 a
 hc = a / 6;           // element size at the contact

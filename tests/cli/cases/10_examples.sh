@@ -138,6 +138,7 @@ ex_check "plate-hole-overload: permanent set vs 2.0995e-6 m within 1%; unloading
 ex_copy ball-indentation
 d="$work/examples/ball-indentation"
 ex_set "$d/block.geo" '^hc = a / [0-9]+;' 'hc = a / 3;'
+ex_set "$d/block.geo" '^rf = [0-9.]+ \* a;' 'rf = 1.1 * a;'  # the refined ball: the contact only
 expect "ball-indentation: runs on a coarse mesh (hc = a/3)" 0 "" -- run "$d/case.yaml" --quiet
 s="$d/case.out/summary.json"; hc="$d/case.out/history.csv"
 ex_check "ball-indentation: converged in the 6 steps given, no warnings" "$s" \

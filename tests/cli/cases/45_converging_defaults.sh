@@ -211,6 +211,7 @@ expect "multilinear-cube stretched 5 %, --quiet: the reason is still printed" 2 
 ex_copy ball-indentation
 d="$work/examples/ball-indentation"
 ex_set "$d/block.geo" '^hc = a / [0-9]+;' 'hc = a / 2;'
+ex_set "$d/block.geo" '^rf = [0-9.]+ \* a;' 'rf = 1.1 * a;'
 sed -E 's/^solver:.*/&\n  scheme: initial-stress/' "$d/case.yaml" >"$d/case-is.yaml"
 expect "ball-indentation (elastic), newton" 0 "" -- run "$d/case.yaml" -o "$d/newton" --quiet
 expect "ball-indentation (elastic), initial-stress" 0 "" -- run "$d/case-is.yaml" -o "$d/is" --quiet
