@@ -237,8 +237,8 @@ std::span<const int> gmsh_from_abaqus(CellType t) {
 
 /// Face `side` (from 1) of a volume cell: its corners and then its mid-edge nodes, as
 /// positions in the file's order of the cell's nodes, in Gmsh's order of the face's type.
-/// Empty when the cell has no such face.
-std::vector<int> abaqus_face(CellType t, int side) {
+/// Empty when the cell has no such face. Views static tables: nothing is allocated.
+std::span<const int> abaqus_face(CellType t, int side) {
   static const std::vector<std::vector<int>> tet = {
       {0, 1, 2, 4, 5, 6}, {0, 3, 1, 7, 8, 4}, {1, 3, 2, 8, 9, 5}, {2, 3, 0, 9, 7, 6}};
   static const std::vector<std::vector<int>> hex = {
@@ -250,9 +250,9 @@ std::vector<int> abaqus_face(CellType t, int side) {
                       : cell_linear(t) == CellType::hex8 ? hex
                                                          : wedge;
   if (side < 1 || side > static_cast<int>(table.size())) return {};
-  std::vector<int> f = table[side - 1];
+  const std::span<const int> f = table[side - 1];
   if (cell_linear(t) == t && t != CellType::wedge6)  // the corners: the first 3 or 4
-    f.resize(t == CellType::tet4 ? 3 : 4);
+    return f.first(t == CellType::tet4 ? 3 : 4);
   return f;
 }
 
@@ -260,6 +260,10 @@ std::vector<int> abaqus_face(CellType t, int side) {
 struct Member {
   long first = 0, last = 0, step = 1;
   int line = 0;  ///< index into Deck::lines, for messages
+  long count() const { return (last - first) / step + 1; }
+  /// Label k (from 0) of the member; first + k·step never passes `last`, so it cannot
+  /// overflow as a running `label += step` could next to the largest long.
+  long label(long k) const { return first + k * step; }
 };
 
 struct Set {
@@ -345,11 +349,14 @@ class InpReader {
   }
 
   double real(std::string_view s, int line) const {
-    std::string t(s);
-    for (char& c : t)
-      if (c == 'd' || c == 'D') c = 'e';  // Fortran's 1.0D+03
-    const char* b = t.data();
-    const char* e = b + t.size();
+    std::string t;  // only for Fortran's 1.0D+03: the usual number is parsed where it is
+    if (s.find_first_of("dD") != std::string_view::npos) {
+      t = s;
+      for (char& c : t)
+        if (c == 'd' || c == 'D') c = 'e';
+    }
+    const char* b = t.empty() ? s.data() : t.data();
+    const char* e = b + (t.empty() ? s.size() : t.size());
     if (b != e && *b == '+') ++b;
     double v = 0;
     const auto [p, ec] = std::from_chars(b, e, v);
@@ -516,7 +523,7 @@ class InpReader {
   }
 
   void add_member(Set& s, const Member& m) {
-    const std::size_t n = static_cast<std::size_t>((m.last - m.first) / m.step) + 1;
+    const std::size_t n = static_cast<std::size_t>(m.count());
     s.count += n;
     total_members_ += n;
     if (total_members_ > max_members)
@@ -547,17 +554,15 @@ class InpReader {
       }
       for (auto v : f) {
         if (of_elsets) {
-          const Set& e = find_set(elsets_, v, l, "ELSET");
-          for (const Member& m : e.members)
-            for (long el = m.first; el <= m.last; el += m.step) {
-              auto it = element_of_label_.find(el);
-              if (it == element_of_label_.end()) continue;  // checked where the ELSET is used
-              const Element& x = elements_[it->second];
-              for (int a = 0; a < x.kind.nodes; ++a) {
-                const long n = conn_[x.offset + a];
-                add_member(s, {n, n, 1, l});
-              }
+          each_label(find_set(elsets_, v, l, "ELSET"), [&](long el, int) {
+            auto it = element_of_label_.find(el);
+            if (it == element_of_label_.end()) return;  // checked where the ELSET is used
+            const Element& x = elements_[it->second];
+            for (int a = 0; a < x.kind.nodes; ++a) {
+              const long n = conn_[x.offset + a];
+              add_member(s, {n, n, 1, l});
             }
+          });
         } else if (is_label(v)) {
           const long n = label(v, l, of_nodes ? "node label" : "element label");
           add_member(s, {n, n, 1, l});
@@ -627,7 +632,7 @@ class InpReader {
   template <class F>
   void each_label(const Set& s, F&& f) const {
     for (const Member& m : s.members)
-      for (long v = m.first; v <= m.last; v += m.step) f(v, m.line);
+      for (long k = 0, n = m.count(); k < n; ++k) f(m.label(k), m.line);
   }
 
   Mesh build() {
@@ -743,7 +748,7 @@ class InpReader {
           throw fail(line, fmt::format("surface '{}': element {} is not a volume element, and "
                                        "only a volume element's faces S1 .. S6 are read",
                                        s.name, label));
-        const std::vector<int> face = abaqus_face(e->kind.type, side);
+        const std::span<const int> face = abaqus_face(e->kind.type, side);
         if (face.empty())
           throw fail(line, fmt::format("surface '{}': element {} ({}) has no face S{}", s.name,
                                        label, e->type, side));
@@ -779,7 +784,7 @@ class InpReader {
           const Element* el = element(e, item.line, "surface '" + s.name + "'");
           if (!el || el->kind.kind != ElementKind::Kind::volume) return;
           for (int side = 1;; ++side) {
-            const std::vector<int> face = abaqus_face(el->kind.type, side);
+            const std::span<const int> face = abaqus_face(el->kind.type, side);
             if (face.empty()) break;
             if (face_count().at(face_key(*el, face)) == 1) add(e, side, item.line);
           }
@@ -815,7 +820,7 @@ class InpReader {
   }
 
   /// A face's corner labels, sorted: the same for the two cells that share the face.
-  std::array<long, 4> face_key(const Element& e, const std::vector<int>& face) const {
+  std::array<long, 4> face_key(const Element& e, std::span<const int> face) const {
     std::array<long, 4> key{0, 0, 0, 0};  // a triangle's 4th stays 0 (labels are positive)
     const std::size_t corners = face.size() == 3 || face.size() == 6 ? 3 : 4;
     for (std::size_t a = 0; a < corners; ++a) key[a] = conn_[e.offset + face[a]];
@@ -829,7 +834,7 @@ class InpReader {
       for (const Element& e : elements_)
         if (e.kind.kind == ElementKind::Kind::volume)
           for (int side = 1;; ++side) {
-            const std::vector<int> face = abaqus_face(e.kind.type, side);
+            const std::span<const int> face = abaqus_face(e.kind.type, side);
             if (face.empty()) break;
             ++face_count_[face_key(e, face)];
           }

@@ -233,10 +233,11 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
 HeatFlows heat_flows(const Model& model, const State& state) {
   HeatFlows out;
   const auto& bcs = model.spec().heat.boundary;
+  const bool ignore_case = model.region_names_ignore_case();
   auto through = [&](const std::string& region, bool fixed_only) {
     double q = 0;
     for (std::size_t b = 0; b < bcs.size() && b < state.heat_flow.size(); ++b)
-      if (Mesh::same_region_name(bcs[b].region, region, model.region_names_ignore_case()) &&
+      if (Mesh::same_region_name(bcs[b].region, region, ignore_case) &&
           (!fixed_only || bcs[b].kind == HeatBoundarySpec::Kind::temperature))
         q += state.heat_flow[b];
     return q;

@@ -266,14 +266,15 @@ void Model::hold_points(const std::vector<char>& held) {
 const Region& Model::find_region(const std::string& name, const SourceLocation& where,
                                  int dim_min, int dim_max, const char* what) const {
   std::vector<std::string> names;
+  const bool ignore_case = region_names_ignore_case();
   for (const auto& r : mesh_.regions)
     if (r.dim >= dim_min && r.dim <= dim_max) {
-      if (Mesh::same_region_name(r.name, name, region_names_ignore_case())) return r;
+      if (Mesh::same_region_name(r.name, name, ignore_case)) return r;
       names.push_back(r.name);
     }
   std::string msg = fmt::format("region '{}' is not a {} of the mesh {}", name, what,
                                 case_->mesh.file.filename().string());
-  if (const Region* other = mesh_.find_region(name, 0, 3, region_names_ignore_case()))
+  if (const Region* other = mesh_.find_region(name, 0, 3, ignore_case))
     msg += fmt::format(" (it is a {}D physical group)", other->dim);
   throw InputError(where, msg + "; " + suggestion(name, names, std::string(what) + "s"));
 }

@@ -311,6 +311,10 @@ TEST(InpReader, BadDecksNameTheLine) {
   expect("*INSTANCE, NAME=a, PART=p\n1, 0, 0\n*END INSTANCE\n", "deck.inp:7:", "is moved");
   expect("*NSET, NSET=a, GENERATE\n1, 100000000000000\n*ELEMENT, TYPE=C3D4\n1,1,2,3,4\n",
          "deck.inp:7:", "more than");
+  // The last labels a long holds: stepping past them overflowed before (UBSan).
+  expect("*ELEMENT, TYPE=C3D4\n1,1,2,3,4\n*NSET, NSET=a, GENERATE\n"
+         "9223372036854775800, 9223372036854775807, 5\n",
+         "deck.inp:9:", "names node 9223372036854775800");
   EXPECT_NE(error_of(nodes).find("no volume elements"), std::string::npos);
   EXPECT_NE(error_of("1, 2, 3\n").find("deck.inp:1:"), std::string::npos);
 }
