@@ -64,10 +64,12 @@ for c in "${cases[@]}"; do
     timeout "$timeout_s" "$bin" run "$d/case.yaml" -o "$d/out" --quiet "${threads_opt[@]}" >"$d/terminal.txt" 2>&1
     rc=$?
     t1=$(date +%s.%N)
-    wall=$(python3 -c "print(f'{$t1 - $t0:.2f}')")
-    python3 - "$c" "$v" "$rc" "$wall" "$d" "$planned" "$dofs" >>"$rows" <<'EOF'
+    wall=$(/usr/bin/python3 -c "print(f'{$t1 - $t0:.2f}')")
+    /usr/bin/python3 - "$c" "$v" "$rc" "$wall" "$d" "$planned" "$dofs" "$work/$c/newton/out" \
+      "$(dirname "$0")/../tests/tools" >>"$rows" <<'EOF'
 import csv, json, os, re, sys
-case, variant, rc, wall, d, planned, dofs = sys.argv[1:]
+case, variant, rc, wall, d, planned, dofs, newton_out, tools = sys.argv[1:]
+sys.path.insert(0, tools)
 out = os.path.join(d, "out")
 summ = {}
 try:
@@ -104,12 +106,42 @@ try:
     t_reached = f"{float(t_reached):.6g}"
 except ValueError:
     pass
+
+def steps_of(out_dir):
+    # the steps' .vtu files of a run that reached the end time, else []
+    try:
+        with open(os.path.join(out_dir, "summary.json")) as f:
+            s = json.load(f)
+        if s.get("failure"):
+            return []
+        return [os.path.join(out_dir, p) for p in
+                sorted(p for p in os.listdir(out_dir) if re.fullmatch(r"step_\d+\.vtu", p))]
+    except Exception:
+        return []
+
+
+# against newton: the largest difference of the nodal displacement and of the nodal stress at
+# the end, each relative to newton's largest value of that field over the run (the end of an
+# unloading is near zero stress); both runs on the same mesh, nodes in one order
+vs_newton = "-"
+a, b = steps_of(newton_out), steps_of(out)
+if a and b and variant != "newton":
+    from compare_results import read_vtu
+    import numpy as np
+    fa, fb = read_vtu(a[-1]), read_vtu(b[-1])
+    runs = [read_vtu(p) for p in a]
+    worst = 0.0
+    for name in ("displacement", "stress"):
+        ref = max(np.abs(r[name]).max() for r in runs)
+        if ref > 0:
+            worst = max(worst, np.abs(fa[name] - fb[name]).max() / ref)
+    vs_newton = f"{worst:.1e}"
 fields = [case, dofs, variant, rc, f"{summ.get('steps', '-')} ({planned})", t_reached,
           str(summ.get("iterations", "-")), str(cutbacks), str(summ.get("factorizations", "-")),
-          str(max_pp), wall, short]
+          str(max_pp), wall, short, vs_newton]
 print("\t".join(fields))
 EOF
-    tail -n 1 "$rows" | awk -F'\t' '{printf "%-24s %-26s exit %s  steps %-8s t %-6s it %-5s cb %-2s fact %-5s %ss  %s\n", $1, $3, $4, $5, $6, $7, $8, $9, $11, $12}' >&2
+    tail -n 1 "$rows" | awk -F'\t' '{printf "%-24s %-26s exit %s  steps %-8s t %-6s it %-5s cb %-2s fact %-5s %ss  vs newton %s  %s\n", $1, $3, $4, $5, $6, $7, $8, $9, $11, $13, $12}' >&2
   done
 done
 
@@ -123,15 +155,17 @@ done
   echo "Columns: exit status (0 converged, 2 not converged, 124 killed after ${timeout_s} s); steps converged"
   echo "(planned steps); last converged time; iterations (all attempts, cut-back attempts included);"
   echo "cut-backs (\"cutting back\" lines of hencky.log); factorizations (summary.json); the largest"
-  echo "number of plastic points in a step; wall time of the process; why it stopped."
+  echo "number of plastic points in a step; wall time of the process; why it stopped; against"
+  echo "newton: the largest difference of the nodal displacement and of the nodal stress at the end,"
+  echo "each relative to newton's largest value of that field over the run."
   echo
-  echo "| case | unknowns | scheme | exit | steps | t | iterations | cut-backs | factorizations | plastic pts | wall s | stopped because |"
-  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
-  awk -F'\t' '{printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12}' "$rows"
+  echo "| case | unknowns | scheme | exit | steps | t | iterations | cut-backs | factorizations | plastic pts | wall s | stopped because | vs newton |"
+  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"
+  awk -F'\t' '{printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13}' "$rows"
   echo
   echo "At a glance: exit status / iterations / cut-backs, one row per case (vs = variable-stiffness)."
   echo
-  python3 - "$rows" <<'GLANCE'
+  /usr/bin/python3 - "$rows" <<'GLANCE'
 import sys
 rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1]) if l.strip()]
 cases, variants, cell = [], [], {}

@@ -164,6 +164,8 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   distances_.clear();
   anderson_.reset();
   mixed_last_ = restart_next_ = false;
+  holding_ = false;
+  hold_set_ = plastic_ && scheme_->iterates_initial_strain();
   searched_.reset();
   for (out.iterations = 0;; ++out.iterations) {
     if (par::any(interrupt_requested()))  // every rank stops at the same iteration
@@ -198,7 +200,11 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       if (plastic_) worst = std::max({worst, out.delta_sigma / tol, out.delta_eps / tol});
       distances_.push_back(worst);
     }
-    if (converged(out)) {
+    // An answer of the held plastic set (below) whose stresses put some held points on the
+    // other side of their yield stress is not the step's: those points change sides, and the
+    // iteration goes on.
+    const bool holds_broken = holding_ && ev.points.holds_broken > 0;
+    if (converged(out) && !holds_broken) {
       require_strain_form(ev);
       accept(c, trial, scale, out);
       trial.force_integral = c.force_integral + f_step * (trial.time - c.time);
@@ -209,7 +215,48 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       return false;
     }
     advance(c, trial, ev, out.iterations, out.residual, previous_residual);
+    if (holds_broken && converged(out))
+      move_holds(ev.points.holds_broken);
+    else if (out.iterations + 1 == hold_from && hold_set_)
+      hold(out.plastic_points);
   }
+}
+
+/// The initial-strain schemes' active set. Their λ0 of a point at its yield stress jumps
+/// between the plastic branch's value and zero as its iterate's stress crosses the yield
+/// stress, and where hundreds of points sit there (first yield of a whole body under a force,
+/// tests/cli/inputs/issue16/unload-all: 237-285 plastic points from one iteration to the next)
+/// Anderson's least squares, which fits one linear map to the history, cannot settle them:
+/// 200 iterations at a relative residual of 1e-4, four cut-backs, status 2. From iteration
+/// `hold_from` on every point keeps the status of its last iterate, and the iteration is one
+/// of a fixed set of points, a map linear on a linear curve, which the mixing converges. An
+/// answer that leaves held points beyond their yield stress on the other side moves those
+/// points and goes on: the primal-dual active-set iteration (Hintermüller, Ito and Kunisch,
+/// SIAM J. Optim. 13, 2003; as Hüeber and Wohlmuth apply it to contact, see begin_again).
+/// After `max_hold_moves` moves the points are set free again.
+void Equilibrium::hold(int plastic_points) {
+  holding_ = true;
+  hold_moves_ = 0;
+  const int held = points_.hold_plastic_set();
+  restart_next_ = true;  // a new map: Anderson's history starts again
+  log_.detail("  the plastic set is held from here ({} points plastic, {} in the last iterate)",
+              held, plastic_points);
+}
+
+void Equilibrium::move_holds(int broken) {
+  restart_next_ = true;
+  if (++hold_moves_ > max_hold_moves) {
+    points_.free_plastic_set();
+    holding_ = hold_set_ = false;
+    log_.detail("  {} held points still beyond their yield stress after {} moves: every point free",
+                broken, max_hold_moves);
+    return;
+  }
+  points_.move_broken_holds();
+  log_.detail(
+      "  converged on the held set, but {} of its points lie beyond their yield stress: "
+      "they change sides",
+      broken);
 }
 
 /// A step whose first iterate released nodes that were in contact at t, and made points flow,

@@ -144,6 +144,13 @@ class Equilibrium {
   bool mixed_last_ = false, restart_next_ = false;
   std::vector<double> plain_u_;
   std::vector<std::vector<ContactNode>> plain_contact_;
+  // The initial-strain schemes' held plastic set (hold, move_holds): the iteration of the
+  // step from which it is held, whether it may be (this step), is, and its moves so far.
+  static constexpr int hold_from = 20, max_hold_moves = 10;
+  bool hold_set_ = false, holding_ = false;
+  int hold_moves_ = 0;
+  void hold(int plastic_points);
+  void move_holds(int broken);
 };
 
 }  // namespace hencky

@@ -241,11 +241,34 @@ void PointPass::set_initial_strains(std::span<const double> lambda0) {
   for_plastic_points([&](int p) { point_iter_[p].lambda0 = lambda0[i++]; });
 }
 
+int PointPass::hold_plastic_set() {
+  int n = 0;
+  for_plastic_points([&](int p) {
+    PointIteration& it = point_iter_[p];
+    it.held = !point_step_[p].curve.elastic_unloading ? 0 : it.plastic_prev ? 1 : -1;
+    it.breaks_hold = false;
+    n += it.held > 0;
+  });
+  return static_cast<int>(par::sum(static_cast<long long>(n)));
+}
+
+void PointPass::move_broken_holds() {
+  for_plastic_points([&](int p) {
+    PointIteration& it = point_iter_[p];
+    if (it.breaks_hold) it.held = static_cast<signed char>(-it.held);
+    it.breaks_hold = false;
+  });
+}
+
+void PointPass::free_plastic_set() {
+  for_plastic_points([&](int p) { point_iter_[p].held = 0, point_iter_[p].breaks_hold = false; });
+}
+
 /// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the
 /// points' numerators over that of σ̃ (resp. ε̃^{e+p}) over the plastic materials.
 void PointPass::measures(const State& trial, PointPassResult& r) const {
   double ns = 0, ds = 0, ne = 0, de = 0;
-  int n_plastic = 0;
+  int n_plastic = 0, n_broken = 0;
   for_plastic_points([&](int p) {
     const double w = point_volume_[p], q = von_mises(trial.stress[p]);
     ns += w * defect_sigma_[p] * defect_sigma_[p];
@@ -253,11 +276,13 @@ void PointPass::measures(const State& trial, PointPassResult& r) const {
     ne += w * defect_eps_[p] * defect_eps_[p];
     de += w * trial.eps_ep[p] * trial.eps_ep[p];
     n_plastic += trial.flowing[p];
+    n_broken += point_iter_[p].breaks_hold;
   });
-  double sums[5] = {ns, ds, ne, de, static_cast<double>(n_plastic)};
+  double sums[6] = {ns, ds, ne, de, static_cast<double>(n_plastic), static_cast<double>(n_broken)};
   par::sum_in_place(std::span<double>(sums));
   ns = sums[0], ds = sums[1], ne = sums[2], de = sums[3];
   n_plastic = static_cast<int>(sums[4]);
+  r.holds_broken = static_cast<int>(sums[5]);
   r.delta_sigma = ds > 0 ? std::sqrt(ns / ds) : 0.0;
   r.delta_eps = de > 0 ? std::sqrt(ne / de) : 0.0;
   r.plastic_points = n_plastic;

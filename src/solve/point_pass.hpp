@@ -21,6 +21,7 @@ struct PointPassResult {
   double delta_sigma = 0;         ///< the scheme's Δ^σ (0 without plasticity)
   double delta_eps = 0;           ///< the scheme's Δ^ε
   int plastic_points = 0;         ///< points that flow plastically in this iterate
+  int holds_broken = 0;  ///< held points whose iterate lies on the other side of the yield stress
 };
 
 class PointPass {
@@ -70,6 +71,15 @@ class PointPass {
     point_iter_ = saved_iter_;
     tangent_ = saved_tangent_;
   }
+  /// The initial-strain schemes' active set: every point of a plastic material with elastic
+  /// unloading keeps, from now on in this step, the status (plastic or elastic) of its last
+  /// iterate (PointIteration::held; begin_step frees them). Returns the number held plastic,
+  /// over all ranks. Collective.
+  int hold_plastic_set();
+  /// The held points whose last iterate broke their hold change sides; the others stay.
+  void move_broken_holds();
+  /// Every point free again.
+  void free_plastic_set();
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;

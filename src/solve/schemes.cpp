@@ -92,17 +92,34 @@ struct AlongZ {
   Voigt dx;         ///< D x
 };
 
-AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0,
-               const Voigt& x) {
+AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
+               const Voigt& sigma0, const Voigt& x) {
   const double three_g = ps.curve.three_g;
   AlongZ a;
   a.dx = Tangent{}.times(k1, x);
   // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
-  a.z = ps.flowing ? ps.z : flow_direction(sigma0 + a.dx);
+  a.z = it.z_frozen ? it.z_fixed : ps.flowing ? ps.z : flow_direction(sigma0 + a.dx);
   a.q0 = a.z.dot(sigma0);
   a.eps0 = ps.curve.eps_p + a.q0 / three_g;
   a.xt = a.z.dot(a.dx) / three_g;
   return a;
+}
+
+/// A point that flowed up to t and unloads along the step's Z (Zᵀ D x < 0) while its trial
+/// stress σ(t) + D x lies outside the yield surface: its stress has turned away from Z. The
+/// stress form puts σ's component along Z on the curve, so such a point would end the step
+/// with a von Mises stress above the curve, and every later step would start it there: along
+/// the next Z its secant is negative for the increments that do not reach the curve again,
+/// and the iteration contracts by less than 1 % per iteration (the ball indentation's
+/// unloading with variable-stiffness: 98 such points, t = 1.5 → 1.8, the step and its four
+/// cut-backs repeating the same iterations). Such a point takes the direction of its trial
+/// stress for the rest of the step, as a point elastic at t does, and its yield is checked
+/// along it. Once per step: a point switching back and forth cost the loading steps their
+/// rate.
+bool turns_out_of_z(const PointStep& ps, const PointIteration& it, const Voigt& sigma0,
+                    const AlongZ& a) {
+  return ps.flowing && !it.z_frozen && a.xt < -strain_roundoff(ps, a.eps0) &&
+         von_mises(sigma0 + a.dx) > ps.curve.yield_now;
 }
 
 /// The stress and plastic state of the iterate from the plastic multiplier `lambda` along Z,
@@ -169,19 +186,38 @@ class Newton final : public Scheme {
 class VariableStiffness final : public Scheme {
  public:
   explicit VariableStiffness(bool strain_form) : strain_form_(strain_form) {}
+  /// Above the curve: σ̃(t) beyond the yield stress by more than this, relative (a millionth:
+  /// the strain it owes the curve is then below 1e-6 σ_y / H, far under a step's increment).
+  static constexpr double above_curve_slack = 1e-6;
   SchemeKind kind() const override { return SchemeKind::variable_stiffness; }
   MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_iteration; }
   bool uses_strain_form() const override { return strain_form_; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, sigma0, x);
-    const bool right = ps.flowing;
+    AlongZ a = along_z(k1, ps, it, sigma0, x);
+    PointIteration memory = it;
+    if (turns_out_of_z(ps, it, sigma0, a)) {
+      memory.z_frozen = true;
+      memory.z_fixed = flow_direction(sigma0 + a.dx);
+      memory.tan_beta = three_g;
+      a = along_z(k1, ps, memory, sigma0, x);
+    }
+    const bool right = ps.flowing && !memory.z_frozen;
     PointUpdate u;
-    double lambda = 0, new_tan = it.tan_beta;
-    const double ds = it.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
-    // The strain form, unless the point has turned to the stress form in this step (below).
-    const bool strain_now = strain_form_ && !it.stress_form;
+    double lambda = 0, new_tan = memory.tan_beta;
+    const double ds = memory.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
+    // The strain form, unless the point has turned to the stress form in this step (below),
+    // or starts the step above the curve: a point that flowed along a turning stress (under
+    // an indenter) ends its step with σ̃(t) above Φ (`turns_out_of_z`), and then F(σ̃(t))
+    // lies beyond ε̃(t). Its answer along Z has a negative secant (its stress falls back to the
+    // curve while its strain grows), which (2.34) cannot reach from a positive one: the secant
+    // Δσ̃/(F(σ̃ + Δσ̃) − ε̃) only shrinks towards zero (the ball indentation with curve_form:
+    // strain, t = 0.625 → 0.75: secants of 6e3 Pa and falling by a fifth per iteration, the
+    // step cut back four times). The stress form takes it, as for a negative secant below.
+    const bool above_curve =
+        ps.flowing && !memory.z_frozen && a.q0 > ps.curve.yield_now * (1 + above_curve_slack);
+    const bool strain_now = strain_form_ && !memory.stress_form && !above_curve;
     const auto fk = strain_now ? ps.curve.f(a.q0 + ds, right) : Hardening::Point{};
     // An iterate above the largest stress the curve reaches (the flat end of a table) has no
     // strain on the curve: the point takes the stress form as well (Φ is flat there).
@@ -189,8 +225,8 @@ class VariableStiffness final : public Scheme {
     bool defects_set = false;
     double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
     if (!stress_form) {  // (2.34)
-      u.defect_eps = fk.value - (a.eps0 + it.x_prev);
-      u.defect_sigma = ds - it.ds_prev;
+      u.defect_eps = fk.value - (a.eps0 + memory.x_prev);
+      u.defect_sigma = ds - memory.ds_prev;
       defects_set = true;
       const double den = fk.value - a.eps0;
       // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
@@ -208,9 +244,9 @@ class VariableStiffness final : public Scheme {
       // the answer at once: a point whose secant changes direction takes the stress form for
       // the rest of the step (measured, the issue-16 cases with curve_form: strain: 6 of 12
       // failed after cut-backs, 1 does now).
-      change = new_tan - it.tan_beta;
-      stress_form = change * it.secant_change < 0 &&
-                    std::abs(it.secant_change) > 1e-6 * std::abs(it.tan_beta);
+      change = new_tan - memory.tan_beta;
+      stress_form = change * memory.secant_change < 0 &&
+                    std::abs(memory.secant_change) > 1e-6 * std::abs(memory.tan_beta);
       // A negative secant (the point starts the step above the curve, below) sets λ off the
       // curve's side in (2.34) and makes D̃ indefinite; the stress form's iterate does not
       // depend on the slope: the point takes it (both forms have the curve as fixed point).
@@ -221,7 +257,7 @@ class VariableStiffness final : public Scheme {
       const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
       if (!defects_set) {  // not where the strain form gave them (a point turning now)
         u.defect_sigma = ph.value - (a.q0 + ds);
-        u.defect_eps = a.xt - it.x_prev;
+        u.defect_eps = a.xt - memory.x_prev;
       }
       new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
       lambda = a.xt - (ph.value - a.q0) / three_g;
@@ -240,7 +276,7 @@ class VariableStiffness final : public Scheme {
     // A softening curve (a negative slope) leaves D̃ indefinite: the scheme has no answer.
     u.negative_secant = matrix_tan < 0;
     u.tangent = d_tilde(k1, a.z, matrix_tan);
-    finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, memory.lambda0, u);
     u.next.stress_form = stress_form;
     u.next.secant_change = change;
     return u;
@@ -277,8 +313,13 @@ class FixedMatrixScheme : public Scheme {
 
 /// Schemes 2 and 3, (2.35)-(2.37) and (2.38)-(2.40): initial strains on the curve's strain
 /// form, relaxed by ω, with the elastic matrix (2) or the start-of-step tangent (3).
+/// A held point (PointIteration::held) takes one branch of the curve whatever its iterate's
+/// stress, and says when its stress lies beyond the yield stress by more than `hold_slack`
+/// relative on the other side: a point at the yield stress to within a millionth has an
+/// answer on either branch (their strains differ by the slack over the plastic slope).
 class InitialStrain final : public FixedMatrixScheme {
  public:
+  static constexpr double hold_slack = 1e-6;
   InitialStrain(bool stiffness, double omega)
       : FixedMatrixScheme(stiffness ? SchemeKind::initial_strain_stiffness
                                     : SchemeKind::initial_strain,
@@ -289,12 +330,24 @@ class InitialStrain final : public FixedMatrixScheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, sigma0, x);
+    const AlongZ a = along_z(k1, ps, it, sigma0, x);
     PointUpdate u;
     PointIteration memory = it;
     const double tb = stiffness() ? it.tan_start : three_g;
     const double ds = tb * (a.xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
-    auto fk = ps.curve.f(a.q0 + ds, ps.flowing);
+    const double s = a.q0 + ds, y = ps.curve.yield_now;
+    Hardening::Point fk;
+    bool breaks_hold = false;
+    if (it.held < 0) {  // the elastic line, also above the yield stress
+      fk = {ps.curve.eps_p + s / three_g, 1 / three_g};
+      breaks_hold = s > y * (1 + hold_slack);
+    } else if (it.held > 0 && s < y) {  // the plastic branch, continued below the yield stress
+      fk = ps.curve.f(y, true);
+      fk.value += (s - y) * fk.slope;
+      breaks_hold = s < y * (1 - hold_slack);
+    } else {
+      fk = ps.curve.f(s, ps.flowing || it.held > 0);
+    }
     if (!std::isfinite(fk.value)) {
       // The iterate's stress is above the largest the curve reaches (a table's flat end),
       // where no strain belongs to it: the defect is taken at that largest stress, with the
@@ -327,6 +380,7 @@ class InitialStrain final : public FixedMatrixScheme {
       u.tangent = d_tilde(k1, a.z, memory.tan_start);
     }
     finish(k1, ps, memory, sigma0, a, lambda, ds, it.tan_beta, lambda0, u);
+    u.next.breaks_hold = breaks_hold;
     return u;
   }
 
@@ -345,7 +399,7 @@ class InitialStress final : public FixedMatrixScheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, sigma0, x);
+    const AlongZ a = along_z(k1, ps, it, sigma0, x);
     const bool right = ps.flowing;
     PointUpdate u;
     PointIteration memory = it;

@@ -64,6 +64,19 @@ struct PointIteration {
   /// has turned to the stress form in this step (its secant alternated).
   double secant_change = 0;
   bool stress_form = false;
+  /// variable-stiffness: a point that flowed up to t and whose stress turned away from the
+  /// step's Z takes the direction of its trial stress for the rest of the step
+  /// (`turns_out_of_z` in schemes.cpp).
+  Voigt z_fixed = Voigt::Zero();
+  bool z_frozen = false;
+  /// The initial-strain schemes: the point's status held by the equilibrium iteration (an
+  /// active set, PointPass::hold_plastic_set): 0 free, +1 held plastic (the curve's plastic
+  /// branch, continued below the yield stress), −1 held elastic (the elastic line, continued
+  /// above it).
+  signed char held = 0;
+  /// A held point whose last iterate the free law would take to the other status: held
+  /// plastic below the yield stress, held elastic above it.
+  bool breaks_hold = false;
   int k = 0;  ///< iterations evaluated in this step
 };
 

@@ -224,5 +224,71 @@ TEST(PlasticPoint, EverySchemeReproducesTheUniaxialCurveAndUnloadsWithSlopeE) {
   }
 }
 
+/// variable-stiffness: a point that flowed along xy shear and whose stress turns to yz shear
+/// while its xy component falls (it unloads along the step's Z) takes the direction of its
+/// trial stress, and its iterate lies on the yield surface: with the step's Z its xy
+/// component would be put on the curve and its von Mises stress left above it.
+TEST(PlasticPoint, VariableStiffnessFollowsAStressThatTurnsAwayFromZ) {
+  const double yield = 2.5e8, hard = 3e9;
+  const Hardening h(linear_spec(yield, hard), constant(steel.E), constant(steel.nu));
+  const double g = steel.shear_modulus(), tau = yield / std::sqrt(3.0);
+  Voigt sigma0 = Voigt::Zero();
+  sigma0[3] = tau;  // τ_xy on the yield surface
+  Voigt x = Voigt::Zero();
+  x[3] = -0.1 * tau / g;  // engineering shears: τ = G γ
+  x[4] = 0.9 * tau / g;
+  for (CurveForm form : {CurveForm::stress, CurveForm::strain}) {
+    const auto s = make_scheme(SchemeKind::variable_stiffness, form, 1.0);
+    PointIteration it;
+    const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, true, it);
+    ASSERT_LT(ps.z.dot(Tangent{}.times(steel, x)), 0);                // unloading along Z
+    ASSERT_GT(von_mises(sigma0 + Tangent{}.times(steel, x)), yield);  // outside the surface
+    SCOPED_TRACE(form == CurveForm::stress ? "stress form" : "strain form");
+    PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
+    EXPECT_TRUE(u.next.z_frozen);
+    const Voigt z = u.z;
+    // the strain held: the secant iteration of the point alone (the stress form lands at once)
+    for (int k = 0; k < 100 && std::abs(u.defect_sigma) + std::abs(u.defect_eps) > 0; ++k)
+      u = s->evaluate(steel, ps, u.next, sigma0, x);
+    EXPECT_LE((u.z - z).norm(), 1e-15);  // once per step: the direction stays
+    EXPECT_TRUE(u.plastic);
+    EXPECT_NEAR(von_mises(u.sigma), h.plastic(u.d_lambda, 20).value, 1e-9 * yield);
+  }
+}
+
+/// The initial-strain schemes' held plastic set: a point held plastic whose iterate falls
+/// below the yield stress stays on the plastic branch (continued: its plastic strain
+/// decreases) and says its hold is broken; a point held elastic above the yield stress stays
+/// elastic and says so too; free, each takes the other status.
+TEST(PlasticPoint, InitialStrainHeldPointsKeepTheirBranch) {
+  const double yield = 2.5e8, hard = 3e9;
+  const Hardening h(linear_spec(yield, hard), constant(steel.E), constant(steel.nu));
+  const double three_g = 3 * steel.shear_modulus(), tau = yield / std::sqrt(3.0);
+  for (SchemeKind kind : {SchemeKind::initial_strain, SchemeKind::initial_strain_stiffness}) {
+    SCOPED_TRACE(scheme_name(kind));
+    const auto s = make_scheme(kind, CurveForm::strain, 0.0);  // relaxation: auto
+    Voigt sigma0 = Voigt::Zero();
+    sigma0[3] = 0.5 * tau;             // elastic at t
+    for (double reach : {0.9, 1.2}) {  // the trial stress over the yield stress
+      Voigt x = Voigt::Zero();
+      x[3] = (reach - 0.5) * tau / steel.shear_modulus();
+      for (int held : {0, 1, -1}) {
+        PointIteration it;
+        const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, false, it);
+        it.held = static_cast<signed char>(held);
+        const PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
+        const bool plastic = held == 0 ? reach > 1 : held > 0;
+        EXPECT_EQ(u.plastic, plastic) << "reach " << reach << " held " << held;
+        EXPECT_EQ(u.next.breaks_hold, held != 0 && plastic != (reach > 1))
+            << "reach " << reach << " held " << held;
+        if (held > 0 && reach < 1) {
+          // λ0 = ω (σ̃ − σ_y)/H with ω = H/(3G + H): the plastic branch's defect, negative
+          EXPECT_NEAR(u.next.lambda0, (reach - 1) * yield / (three_g + hard), 1e-12);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hencky
