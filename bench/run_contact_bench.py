@@ -331,6 +331,8 @@ def main():
     ap.add_argument("--sizes", default="20000,60000,150000",
                     help="target unknowns, comma separated (default 20000,60000,150000)")
     ap.add_argument("--steps", type=int, default=4, help="load steps (default 4)")
+    ap.add_argument("--linear", choices=("auto", "direct", "iterative", "petsc"), default="auto",
+                    help="hencky solver.linear (default auto, hencky's default)")
     ap.add_argument("--block", type=float, default=100.0, help="block size L in contact radii a (default 100)")
     ap.add_argument("--penetration", type=float, default=None,
                     help="hencky contact penetration (default: hencky's default, 1e-3 of the element size)")

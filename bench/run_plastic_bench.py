@@ -244,7 +244,8 @@ def main():
     ap.add_argument("--max-iterations", type=int, default=1000,
                     help="hencky solver.max_iterations per step (default 1000: the fixed-matrix schemes need many near the limit load)")
     ap.add_argument("--cutback", type=int, default=4, help="hencky solver.cutback (default 4, the case default)")
-    ap.add_argument("--linear", choices=("direct", "iterative"), default="direct", help="hencky solver.linear")
+    ap.add_argument("--linear", choices=("auto", "direct", "iterative", "petsc"), default="auto",
+                    help="hencky solver.linear (default auto, hencky's default)")
     ap.add_argument("--timeout", type=float, default=1800, help="time limit of one hencky run, s (default 1800); 0: none")
     ap.add_argument("--ccx-timeout", type=float, default=None, help="time limit of one ccx run, s (default: --timeout)")
     ap.add_argument("--ref-elements", type=int, default=200, help="quadratic elements of the 1D reference (default 200)")

@@ -439,7 +439,7 @@ contact:
     nodes: top
     surface: {{sphere: {{center: [0, 0, {R!r}], radius: {R!r}}}}}
     motion: [0, 0, "-{DELTA!r}*t"]{extra}
-solver: {{steps: {args.steps}, end: 1.0, linear: direct}}
+solver: {{steps: {args.steps}, end: 1.0, linear: {getattr(args, "linear", "auto")}}}
 output:
   every: {args.steps}
   reactions: [bottom]
