@@ -238,13 +238,17 @@ void Equilibrium::hold(int plastic_points) {
   holding_ = true;
   hold_moves_ = 0;
   const int held = points_.hold_plastic_set();
-  restart_next_ = true;  // a new map: Anderson's history starts again
+  // A new map: Anderson's history starts again, and the next residual is not compared with
+  // this iterate's (the fallback would put the points' memory, and their holds, back).
+  restart_next_ = true;
+  mixed_last_ = false;
   log_.detail("  the plastic set is held from here ({} points plastic, {} in the last iterate)",
               held, plastic_points);
 }
 
 void Equilibrium::move_holds(int broken) {
-  restart_next_ = true;
+  restart_next_ = true;  // as in hold(): a new map, and no fallback across the move
+  mixed_last_ = false;
   if (++hold_moves_ > max_hold_moves) {
     points_.free_plastic_set();
     holding_ = hold_set_ = false;
