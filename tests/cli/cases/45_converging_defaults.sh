@@ -116,16 +116,13 @@ print(a, b1, b2)
 sys.exit(0 if a < -2e-3 and abs(b2 - a) <= 0.5 * abs(b1 - a) and abs(b2 - a) <= 0.015 * abs(a) else 1)
 PY
 
-# variable-stiffness stalled in the unloading (t = 1.5 -> 1.8, 98 points whose stress had
-# turned away from their step's Z) and, in its strain form, in the loading (secants of points
-# that start a step above the curve shrinking towards zero): both converge now, without a
-# cut-back. The initial-strain schemes are still cut back in loading steps, where the contact
-# set oscillates under the ball (2 and 4 times), but not while the ball is lifted.
-for scheme in variable-stiffness variable-stiffness/strain; do
-  cv_run indentation-unload "$scheme"
-  ex_check "indentation-unload, $scheme: the ball has left the dent at t = 1.5" "$h" \
-    'at(1.5)["contact.ball.nodes"] == 0 and at(1.8)["contact.ball.force"] == 0'
-done
+# The initial-strain schemes on the indentation: converged since the held plastic set
+# (Equilibrium::hold), still cut back in loading steps where the contact set under the ball
+# oscillates (2 and 4 times), never while the ball is lifted. (variable-stiffness converges
+# here too with this machine's OpenBLAS kernels, 168 iterations and no cut-back, but not with
+# others: with OPENBLAS_CORETYPE=Haswell or Zen its unloading step stalls at 3.7e-6 and the
+# run ends with status 2, with SkylakeX it is cut back once. A check that passes on one BLAS's
+# rounding only is not kept; docs/schemes.md, "What is still open".)
 d="$work/issue16/indentation-unload-initial-strain-stiffness"
 rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/indentation-unload"/* "$d/"
 sed -i -E "s/^  scheme: newton$/  scheme: initial-strain-stiffness/" "$d/case.yaml"
