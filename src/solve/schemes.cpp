@@ -92,16 +92,24 @@ struct AlongZ {
   Voigt dx;         ///< D x
 };
 
+/// The iterate seen along the direction z (a.dx already set).
+void take_direction(AlongZ& a, const Voigt& z, const PointStep& ps, const Voigt& sigma0) {
+  a.z = z;
+  a.q0 = a.z.dot(sigma0);
+  a.eps0 = ps.curve.eps_p + a.q0 / ps.curve.three_g;
+  a.xt = a.z.dot(a.dx) / ps.curve.three_g;
+}
+
 AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                const Voigt& sigma0, const Voigt& x) {
-  const double three_g = ps.curve.three_g;
   AlongZ a;
   a.dx = Tangent{}.times(k1, x);
   // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
-  a.z = it.z_frozen ? it.z_fixed : ps.flowing ? ps.z : flow_direction(sigma0 + a.dx);
-  a.q0 = a.z.dot(sigma0);
-  a.eps0 = ps.curve.eps_p + a.q0 / three_g;
-  a.xt = a.z.dot(a.dx) / three_g;
+  take_direction(a,
+                 it.z_frozen  ? it.z_fixed
+                 : ps.flowing ? ps.z
+                              : flow_direction(sigma0 + a.dx),
+                 ps, sigma0);
   return a;
 }
 
@@ -201,7 +209,7 @@ class VariableStiffness final : public Scheme {
       memory.z_frozen = true;
       memory.z_fixed = flow_direction(sigma0 + a.dx);
       memory.tan_beta = three_g;
-      a = along_z(k1, ps, memory, sigma0, x);
+      take_direction(a, memory.z_fixed, ps, sigma0);
     }
     const bool right = ps.flowing && !memory.z_frozen;
     PointUpdate u;
