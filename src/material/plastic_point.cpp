@@ -35,6 +35,18 @@ Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta) {
   return t;
 }
 
+Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta) {
+  if (theta == 1) return d_tilde(k, z, tan_beta);
+  Tangent t;
+  t.v = k.stiffness() * z;  // DZ
+  const double zdz = z.dot(t.v);
+  if (zdz <= 0) return Tangent{};
+  t.dev_scale = theta - 1;
+  // Zᵀ C x = (1 + dev_scale + coef·ZᵀDZ)·ZᵀDx, which is to be tan β*/3G · ZᵀDx.
+  t.coef = (tan_beta / (3 * k.shear_modulus()) - theta) / zdz;
+  return t;
+}
+
 Mat6 y_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta) {
   const Tangent t = d_tilde(k, z, tan_beta);
   return -t.coef * z * t.v.transpose();  // Z (ZᵀD) / (E* + ZᵀDZ)

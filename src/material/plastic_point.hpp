@@ -61,6 +61,10 @@ struct Tangent {
 /// at β* = β^e (D̃ = D, (2.13)) and gives E* = 0 at tan β* = 0 (perfect plasticity).
 Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta);
 
+/// D̃(β*) with its deviatoric part across Z scaled by θ: the stiffness of the radial return
+/// across its direction, θ = σ̃/σ̃_tr (the stress scales the trial deviator by θ).
+Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta);
+
 /// Ỹ of (2.10) as a full matrix (for the identities (2.14)-(2.16) in tests).
 Mat6 y_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta);
 

@@ -1,6 +1,8 @@
 #include "solve/schemes.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace hencky {
@@ -60,24 +62,6 @@ double stress_secant(const PointStep& ps, double eps0, double q0, double xt, dou
                                                   : ps.curve.phi(eps0, right).slope;
 }
 
-/// The `-stiffness` schemes (2.38)-(2.40), (2.44)-(2.46) fix tan β* at "the slope at the start of
-/// the step", which for a point that was flowing depends on the direction the step takes: the
-/// curve's loading slope if it keeps flowing, the elastic line 3G if it unloads (elastic
-/// unloading). The report leaves the choice open; the loading slope is taken at the start, and
-/// once the first iterates (the predictor, and the first solve: the matrix may then be refactored
-/// once more) show the point unloading, 3G. With the loading slope kept, the fixed-matrix
-/// iteration at an unloading point multiplies its error by 1 − 3G/tan β*_0 and diverges.
-/// `xt` is the iterate's Δε̃^{e+p}; `eps0` ε̃^{e+p}(t). A decrease at round-off level is not
-/// unloading.
-/// Returns true when it switched.
-bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, double xt, double eps0) {
-  if (!ps.flowing || !ps.curve.elastic_unloading || it.k > 1 || it.tan_start == ps.curve.three_g ||
-      !(xt < -strain_roundoff(ps, eps0)))
-    return false;
-  it.tan_start = ps.curve.three_g;
-  return true;
-}
-
 }  // namespace
 
 namespace {
@@ -100,34 +84,54 @@ void take_direction(AlongZ& a, const Voigt& z, const PointStep& ps, const Voigt&
   a.xt = a.z.dot(a.dx) / ps.curve.three_g;
 }
 
-AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
-               const Voigt& sigma0, const Voigt& x) {
+/// Which Z an iterate is seen along, for a point that flowed up to t (a point elastic at t
+/// always takes its trial direction).
+enum class Direction {
+  /// The direction of the iterate's trial stress σ(t) + Dx, as the radial return takes it:
+  /// Z = Mσ/σ̃ of the answer, so the answer lies on the yield surface and is newton's (backward
+  /// Euler) to the tolerance on any path. newton, variable-stiffness, the initial stresses.
+  trial,
+  /// Z(t) = Mσ(t)/σ̃(t), (2.10), fixed over the step, as the report writes it: the stress
+  /// lands on the curve along Z(t) and its part across Z(t) stays elastic, so where the stress
+  /// turns within a step the answer lies above the yield surface (the ball indentation's
+  /// contact edge: von Mises 1.3-7.7 times the yield stress at t = 1 with variable-stiffness
+  /// before it took the trial direction, its ball force 26 % above newton's). The initial
+  /// strains keep it: for a fixed λ0 their stress law is then linear in the iterate, which is
+  /// what Anderson's mixing of λ0 relies on (Equilibrium::mix); with the trial direction the
+  /// mixed iterates doubled the residual every fourth iteration and the indentation stopped
+  /// with status 2.
+  start,
+};
+
+AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0,
+               const Voigt& x, Direction d) {
   AlongZ a;
   a.dx = Tangent{}.times(k1, x);
-  // Z of the step; for a point elastic at t, the direction of the elastic trial stress.
-  take_direction(a,
-                 it.z_frozen  ? it.z_fixed
-                 : ps.flowing ? ps.z
-                              : flow_direction(sigma0 + a.dx),
+  take_direction(a, ps.flowing && d == Direction::start ? ps.z : flow_direction(sigma0 + a.dx),
                  ps, sigma0);
   return a;
 }
 
-/// A point that flowed up to t and unloads along the step's Z (Zᵀ D x < 0) while its trial
-/// stress σ(t) + D x lies outside the yield surface: its stress has turned away from Z. The
-/// stress form puts σ's component along Z on the curve, so such a point would end the step
-/// with a von Mises stress above the curve, and every later step would start it there: along
-/// the next Z its secant is negative for the increments that do not reach the curve again,
-/// and the iteration contracts by less than 1 % per iteration (the ball indentation's
-/// unloading with variable-stiffness: 98 such points, t = 1.5 → 1.8, the step and its four
-/// cut-backs repeating the same iterations). Such a point takes the direction of its trial
-/// stress for the rest of the step, as a point elastic at t does, and its yield is checked
-/// along it. Once per step: a point switching back and forth cost the loading steps their
-/// rate.
-bool turns_out_of_z(const PointStep& ps, const PointIteration& it, const Voigt& sigma0,
-                    const AlongZ& a) {
-  return ps.flowing && !it.z_frozen && a.xt < -strain_roundoff(ps, a.eps0) &&
-         von_mises(sigma0 + a.dx) > ps.curve.yield_now;
+/// The `-stiffness` schemes (2.38)-(2.40), (2.44)-(2.46) fix tan β* at "the slope at the start of
+/// the step", which for a point that was flowing depends on the direction the step takes: the
+/// curve's loading slope if it keeps flowing, the elastic line 3G if it unloads (elastic
+/// unloading). The report leaves the choice open; the loading slope is taken at the start, and
+/// once the first iterates (the predictor, and the first solve: the matrix may then be refactored
+/// once more) show the point unloading, 3G. With the loading slope kept, the fixed-matrix
+/// iteration at an unloading point multiplies its error by 1 − 3G/tan β*_0 and diverges.
+/// Unloading is seen along the direction of the start of the step, Z(t) (the matrix's): the
+/// iterate's own direction turns over with a trial stress that passes through zero. A decrease
+/// at round-off level is not unloading.
+/// Returns true when it switched.
+bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, const AlongZ& a,
+                              const Voigt& sigma0) {
+  if (!ps.flowing || !ps.curve.elastic_unloading || it.k > 1 || it.tan_start == ps.curve.three_g)
+    return false;
+  const double three_g = ps.curve.three_g;
+  const double eps0 = ps.curve.eps_p + ps.z.dot(sigma0) / three_g;
+  if (!(ps.z.dot(a.dx) / three_g < -strain_roundoff(ps, eps0))) return false;
+  it.tan_start = ps.curve.three_g;
+  return true;
 }
 
 /// The stress and plastic state of the iterate from the plastic multiplier `lambda` along Z,
@@ -203,33 +207,34 @@ class VariableStiffness final : public Scheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    AlongZ a = along_z(k1, ps, it, sigma0, x);
-    PointIteration memory = it;
-    if (turns_out_of_z(ps, it, sigma0, a)) {
-      memory.z_frozen = true;
-      memory.z_fixed = flow_direction(sigma0 + a.dx);
-      memory.tan_beta = three_g;
-      take_direction(a, memory.z_fixed, ps, sigma0);
-    }
-    const bool right = ps.flowing && !memory.z_frozen;
+    const AlongZ a = along_z(k1, ps, sigma0, x, Direction::trial);
+    const PointIteration& memory = it;
+    const bool right = ps.flowing;
     PointUpdate u;
     double lambda = 0, new_tan = memory.tan_beta;
     const double ds = memory.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
     // The strain form, unless the point has turned to the stress form in this step (below),
-    // or starts the step above the curve: a point that flowed along a turning stress (under
-    // an indenter) ends its step with σ̃(t) above Φ (`turns_out_of_z`), and then F(σ̃(t))
-    // lies beyond ε̃(t). Its answer along Z has a negative secant (its stress falls back to the
-    // curve while its strain grows), which (2.34) cannot reach from a positive one: the secant
-    // Δσ̃/(F(σ̃ + Δσ̃) − ε̃) only shrinks towards zero (the ball indentation with curve_form:
-    // strain, t = 0.625 → 0.75: secants of 6e3 Pa and falling by a fifth per iteration, the
-    // step cut back four times). The stress form takes it, as for a negative secant below.
-    const bool above_curve =
-        ps.flowing && !memory.z_frozen && a.q0 > ps.curve.yield_now * (1 + above_curve_slack);
+    // or starts the step above the curve, where F(σ̃(t)) lies beyond ε̃(t): a yield stress that
+    // falls with the temperature of t+Δt, or an answer at t left above the curve (when Z was
+    // still Z(t), a point under an indenter ended its step there). Its answer along Z has a
+    // negative secant (its stress falls back to the curve while its strain grows), which (2.34)
+    // cannot reach from a positive one: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) only shrinks towards
+    // zero (measured then, the ball indentation with curve_form: strain, t = 0.625 → 0.75:
+    // secants of 6e3 Pa and falling by a fifth per iteration, the step cut back four times).
+    // The stress form takes it, as for a negative secant below.
+    const bool above_curve = ps.flowing && a.q0 > ps.curve.yield_now * (1 + above_curve_slack);
     const bool strain_now = strain_form_ && !memory.stress_form && !above_curve;
     const auto fk = strain_now ? ps.curve.f(a.q0 + ds, right) : Hardening::Point{};
     // An iterate above the largest stress the curve reaches (the flat end of a table) has no
     // strain on the curve: the point takes the stress form as well (Φ is flat there).
     bool stress_form = !strain_now || !std::isfinite(fk.value);
+    // A point that flowed and whose trial stress turned from Z(t) within the step: its secant
+    // along Z(t), the memory's, can put the estimate σ̃(t) + tan β*·Δε̃ inside the yield
+    // surface while the trial stress lies outside it, so (2.34) would take the iterate as
+    // elastic with a stress outside the surface. The stress form's iterate does not depend on
+    // the secant: the point takes it (both forms have the curve as their fixed point).
+    stress_form = stress_form || (ps.flowing && a.q0 + ds < ps.curve.yield_now &&
+                                  a.q0 + three_g * a.xt > ps.curve.yield_now);
     bool defects_set = false;
     double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
     if (!stress_form) {  // (2.34)
@@ -283,7 +288,15 @@ class VariableStiffness final : public Scheme {
     }
     // A softening curve (a negative slope) leaves D̃ indefinite: the scheme has no answer.
     u.negative_secant = matrix_tan < 0;
-    u.tangent = d_tilde(k1, a.z, matrix_tan);
+    // Across Z the answer scales the trial deviator by θ = σ̃/σ̃_tr = 1 − 3Gλ/σ̃_tr (the radial
+    // return), so an iterate's stress there changes by 2Gθ per unit strain, not D's 2G: where
+    // the stress turns within the step (under an indenter), D̃'s stiffer response across Z
+    // undershot by 1 − θ per iteration. D̃ takes θ across Z and keeps the secant along it
+    // (the ball indentation: 244 -> 78 iterations, newton 37; docs/schemes.md).
+    const double q_tr = a.q0 + three_g * a.xt;  // Zᵀ(σ(t) + Dx), Z the trial's direction
+    const double theta = lambda > 0 && q_tr > 0 ? std::clamp(1 - three_g * lambda / q_tr, 0.0, 1.0)
+                                                : 1.0;
+    u.tangent = d_tilde(k1, a.z, matrix_tan, theta);
     finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, memory.lambda0, u);
     u.next.stress_form = stress_form;
     u.next.secant_change = change;
@@ -310,6 +323,24 @@ class FixedMatrixScheme : public Scheme {
 
  protected:
   bool stiffness() const { return stiffness_; }
+  /// The iterate along its direction; with the `-stiffness` matrix, the first iterate of a point
+  /// that unloads (start_slope_on_unloading, which switches `it` to 3G) and whose trial stress
+  /// has passed through zero (σ(t) points against the trial's direction) is taken along Z(t)
+  /// instead. That iterate came from the loading tangent and overshoots the elastic unloading
+  /// by 3G/tan β*_0 (a hundredfold for a curve hardening at a hundredth of 3G): its trial stress
+  /// lands on the far side of the yield surface, where the radial return would
+  /// yield it in reverse, and from there the elastic matrix takes it back by the factor
+  /// 1 − tan β/3G per iteration (unload-force, initial-stress-stiffness: 64 iterations and
+  /// Anderson's fallback every third one, against 1). Along Z(t) it lies on the elastic line,
+  /// and the next solve, with 3G, lands on the elastic answer.
+  AlongZ along_z_of_fixed_matrix(const ElasticConstants& k1, const PointStep& ps,
+                                 PointIteration& it, const Voigt& sigma0, const Voigt& x,
+                                 Direction direction) const {
+    AlongZ a = along_z(k1, ps, sigma0, x, direction);
+    if (stiffness_ && start_slope_on_unloading(ps, it, a, sigma0) && a.q0 < 0)
+      take_direction(a, ps.z, ps, sigma0);
+    return a;
+  }
   double initial_tan_beta(double tan0, double three_g) const override {
     return stiffness_ ? tan0 : three_g;
   }
@@ -338,9 +369,9 @@ class InitialStrain final : public FixedMatrixScheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, it, sigma0, x);
-    PointUpdate u;
     PointIteration memory = it;
+    const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x, Direction::start);
+    PointUpdate u;
     const double tb = stiffness() ? it.tan_start : three_g;
     const double ds = tb * (a.xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
     const double s = a.q0 + ds, y = ps.curve.yield_now;
@@ -384,8 +415,8 @@ class InitialStrain final : public FixedMatrixScheme {
       // The initial strain gathered so far corrected the loading matrix; with the elastic one
       // an elastic unloading needs none (left in place it would only decay by 1 − ω per
       // iteration).
-      if (start_slope_on_unloading(ps, memory, a.xt, a.eps0)) lambda0 = 0;
-      u.tangent = d_tilde(k1, a.z, memory.tan_start);
+      if (memory.tan_start != it.tan_start) lambda0 = 0;
+      u.tangent = d_tilde(k1, ps.z, memory.tan_start);
     }
     finish(k1, ps, memory, sigma0, a, lambda, ds, it.tan_beta, lambda0, u);
     u.next.breaks_hold = breaks_hold;
@@ -407,10 +438,10 @@ class InitialStress final : public FixedMatrixScheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, it, sigma0, x);
+    PointIteration memory = it;
+    const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x, Direction::trial);
     const bool right = ps.flowing;
     PointUpdate u;
-    PointIteration memory = it;
     const double tb = stiffness() ? it.tan_start : three_g;
     // Δσ̃_k of the solve with D̃(β*) and Δσ^0_k = (D̃(β**_k) − D̃(β*))x_{k−1}
     const double ds = tb * a.xt + (it.tan_beta - tb) * it.x_prev;
@@ -421,8 +452,7 @@ class InitialStress final : public FixedMatrixScheme {
     // σ_k = D̃(β**_{k+1})x: on the curve along Z
     const double lambda = a.xt - (ph.value - a.q0) / three_g;
     if (stiffness()) {
-      start_slope_on_unloading(ps, memory, a.xt, a.eps0);
-      u.tangent = d_tilde(k1, a.z, memory.tan_start);
+      u.tangent = d_tilde(k1, ps.z, memory.tan_start);
     }
     finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
     return u;

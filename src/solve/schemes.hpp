@@ -21,8 +21,12 @@
 //   ZᵀDx / 3G (signed): the scalar the matrix D̃ of (2.9) works with, since ZᵀD̃x = tanβ*·ZᵀDx/3G;
 // - ε̃^{e+p}(t) at the start of a step is ε̃^p(t) + Zᵀσ(t)/3G(t+Δt): the advanced scalar on
 //   proportional paths, kept consistent with the actual stress on others and after reversals;
-// - Z is Mσ(t)/σ̃(t) (2.10) for a point that was flowing plastically at t; for a point that was
-//   elastic at t (σ̃(t) = 0 included) it is the direction of the current elastic trial stress.
+// - Z is the direction of the iterate's elastic trial stress σ(t) + Dx (as the radial return
+//   takes it), so the answer lies on the yield surface and equals newton's on any path;
+//   the initial-strain schemes keep the report's Mσ(t)/σ̃(t) (2.10) for a point that was
+//   flowing plastically at t, which their mixing of λ0 needs (`Direction` in schemes.cpp).
+//   With Z(t), and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G below, ε̃^{e+p}(t) + Δε̃^{e+p} is
+//   ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
 #include <memory>
 #include <string>
 
@@ -64,11 +68,6 @@ struct PointIteration {
   /// has turned to the stress form in this step (its secant alternated).
   double secant_change = 0;
   bool stress_form = false;
-  /// variable-stiffness: a point that flowed up to t and whose stress turned away from the
-  /// step's Z takes the direction of its trial stress for the rest of the step
-  /// (`turns_out_of_z` in schemes.cpp).
-  Voigt z_fixed = Voigt::Zero();
-  bool z_frozen = false;
   /// The initial-strain schemes: the point's status held by the equilibrium iteration (an
   /// active set, PointPass::hold_plastic_set): 0 free, +1 held plastic (the curve's plastic
   /// branch, continued below the yield stress), −1 held elastic (the elastic line, continued

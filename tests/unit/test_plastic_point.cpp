@@ -224,11 +224,47 @@ TEST(PlasticPoint, EverySchemeReproducesTheUniaxialCurveAndUnloadsWithSlopeE) {
   }
 }
 
-/// variable-stiffness: a point that flowed along xy shear and whose stress turns to yz shear
-/// while its xy component falls (it unloads along the step's Z) takes the direction of its
-/// trial stress, and its iterate lies on the yield surface: with the step's Z its xy
-/// component would be put on the curve and its von Mises stress left above it.
-TEST(PlasticPoint, VariableStiffnessFollowsAStressThatTurnsAwayFromZ) {
+/// D̃ with θ across Z (variable-stiffness's matrix): along Z the secant tan β*, across Z in the
+/// deviator 2Gθ, the volume untouched; θ = 1 is D̃ itself.
+TEST(PlasticPoint, DTildeScaledAcrossZ) {
+  std::mt19937 g(5);
+  const double three_g = 3 * steel.shear_modulus(), two_g = 2 * steel.shear_modulus();
+  for (double theta : {1.0, 0.6, 0.05}) {
+    for (double tan_beta : {0.0, 0.01 * three_g, 0.5 * three_g}) {
+      const Voigt z = flow_direction(random_voigt(g, 1e8));
+      const Tangent t = d_tilde(steel, z, tan_beta, theta);
+      const Mat6 c = t.matrix(steel);
+      EXPECT_LE((c - c.transpose()).norm(), 1e-12 * c.norm());
+      const Voigt x = random_voigt(g, 1e-3);
+      const double proj = z.dot(steel.stiffness() * x) / three_g;  // ZᵀDx/3G
+      EXPECT_NEAR(z.dot(c * x), tan_beta * proj, 1e-9 * three_g * std::abs(proj));
+      // a deviatoric strain across Z (engineering shears: its stress is 2G times it, halved
+      // in the shear rows), made orthogonal to Z in the energy product
+      Voigt e = random_voigt(g, 1e-3);
+      const double tr = (e[0] + e[1] + e[2]) / 3;
+      for (int i = 0; i < 3; ++i) e[i] -= tr;
+      e -= (z.dot(steel.stiffness() * e) / z.dot(steel.stiffness() * z)) * z;
+      EXPECT_LE((c * e - theta * (steel.stiffness() * e)).norm(),
+                1e-10 * two_g * e.norm());
+      // the volume: a mean strain gives the bulk modulus' stress
+      Voigt v = Voigt::Zero();
+      v[0] = v[1] = v[2] = 1e-3;
+      EXPECT_LE((c * v - steel.stiffness() * v).norm(), 1e-10 * (steel.stiffness() * v).norm());
+      EXPECT_LE((t.times(steel, x) - c * x).norm(), 1e-12 * (c * x).norm());
+    }
+  }
+  const Voigt z = flow_direction(random_voigt(g, 1e8));
+  const double tb = 0.1 * three_g;
+  EXPECT_EQ((d_tilde(steel, z, tb, 1.0).matrix(steel) - d_tilde(steel, z, tb).matrix(steel)).norm(),
+            0.0);
+}
+
+/// The schemes that see an iterate along its trial direction (variable-stiffness in both forms,
+/// the initial stresses) give the radial return's stress for an increment that turns the
+/// stress: a point that flowed along xy shear and whose stress turns to yz shear while its xy
+/// component falls. With the step's Z(t) its xy component was put on the curve and its von
+/// Mises stress left above it (1.27 times the yield stress here).
+TEST(PlasticPoint, TrialDirectionSchemesGiveTheRadialReturnOfATurningStress) {
   const double yield = 2.5e8, hard = 3e9;
   const Hardening h(linear_spec(yield, hard), constant(steel.E), constant(steel.nu));
   const double g = steel.shear_modulus(), tau = yield / std::sqrt(3.0);
@@ -237,23 +273,40 @@ TEST(PlasticPoint, VariableStiffnessFollowsAStressThatTurnsAwayFromZ) {
   Voigt x = Voigt::Zero();
   x[3] = -0.1 * tau / g;  // engineering shears: τ = G γ
   x[4] = 0.9 * tau / g;
-  for (CurveForm form : {CurveForm::stress, CurveForm::strain}) {
-    const auto s = make_scheme(SchemeKind::variable_stiffness, form, 1.0);
+  const StepCurve curve(h, 20, 3 * g, 0.0, true);
+  const ReturnMapping rr = radial_return(steel, curve, sigma0, x);
+  ASSERT_TRUE(rr.plastic);
+  struct Variant {
+    SchemeKind kind;
+    CurveForm form;
+  };
+  for (const Variant v : {Variant{SchemeKind::variable_stiffness, CurveForm::stress},
+                          Variant{SchemeKind::variable_stiffness, CurveForm::strain},
+                          Variant{SchemeKind::initial_stress, CurveForm::stress},
+                          Variant{SchemeKind::initial_stress_stiffness, CurveForm::stress}}) {
+    const auto s = make_scheme(v.kind, v.form, 1.0);
+    SCOPED_TRACE(std::string(s->name()) + (v.form == CurveForm::strain ? " (strain form)" : ""));
     PointIteration it;
     const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, true, it);
-    ASSERT_LT(ps.z.dot(Tangent{}.times(steel, x)), 0);                // unloading along Z
+    ASSERT_LT(ps.z.dot(Tangent{}.times(steel, x)), 0);                // unloading along Z(t)
     ASSERT_GT(von_mises(sigma0 + Tangent{}.times(steel, x)), yield);  // outside the surface
-    SCOPED_TRACE(form == CurveForm::stress ? "stress form" : "strain form");
     PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
-    EXPECT_TRUE(u.next.z_frozen);
-    const Voigt z = u.z;
-    // the strain held: the secant iteration of the point alone (the stress form lands at once)
+    // the strain held: the point's own iteration (the stress forms land at once)
     for (int k = 0; k < 100 && std::abs(u.defect_sigma) + std::abs(u.defect_eps) > 0; ++k)
       u = s->evaluate(steel, ps, u.next, sigma0, x);
-    EXPECT_LE((u.z - z).norm(), 1e-15);  // once per step: the direction stays
     EXPECT_TRUE(u.plastic);
+    EXPECT_LE((u.sigma - rr.sigma).norm(), 1e-9 * yield);
+    EXPECT_NEAR(u.d_lambda, rr.d_lambda, 1e-9 * rr.d_lambda);
     EXPECT_NEAR(von_mises(u.sigma), h.plastic(u.d_lambda, 20).value, 1e-9 * yield);
   }
+  // The initial strains keep Z(t) (the report's (2.10)): along it the xy component lands on
+  // the curve, and the von Mises stress stays above the yield surface.
+  const auto s = make_scheme(SchemeKind::initial_strain, CurveForm::strain, 0.0);
+  PointIteration it;
+  const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, true, it);
+  PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
+  EXPECT_LE((u.z - ps.z).norm(), 1e-15);
+  EXPECT_GT(von_mises(u.sigma), 1.25 * yield);  // 1.27
 }
 
 /// The initial-strain schemes' held plastic set: a point held plastic whose iterate falls
