@@ -97,32 +97,32 @@ done
 cv_run indentation-unload newton
 ex_check "indentation-unload, newton: the ball has left the dent at t = 1.5 (no node, no force)" \
   "$h" 'at(1.5)["contact.ball.nodes"] == 0 and at(1.8)["contact.ball.force"] == 0'
-# The dent that stays has no closed form. initial-stress (whose first iterates do not drag the
-# nodes: it keeps the elastic matrix) differs from newton by the O(Δt) by which the report's
-# explicit flow direction differs from newton's implicit one (docs/schemes.md): with the steps
-# halved it must come at least twice as close (measured: 2.8 % apart, then 0.8 %).
+# The dent that stays has no closed form. initial-stress and variable-stiffness see each
+# iterate along its trial stress, as newton does, and so solve newton's step equations: their
+# dent is newton's to the tolerance (measured 1e-7 apart), with no cut-back. Before they took
+# the flow direction of the step's start (the report's Z(t)): the dent was 2.8 % from newton's,
+# the stress at the contact edge 23-41 %, and variable-stiffness converged or stalled in the
+# unloading with the rounding of the BLAS kernels (status 2 with OpenBLAS's Haswell and Zen
+# kernels). It is run here with two kernels' rounding: Prescott's (SSE3, any x86-64) and, where
+# the CPU has AVX2, Haswell's (what an AMD EPYC gets).
 h_newton="$h"
-for n in 1 2; do
-  d="$work/issue16/indentation-unload-initial-stress-$n"
-  rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/indentation-unload"/* "$d/"
-  sed -i -E "s/^  scheme: newton$/  scheme: initial-stress/" "$d/case.yaml"
-  [ "$n" = 2 ] && sed -i -E 's/^  times: .*/  times: [0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0, 1.25, 1.5, 1.65, 1.8]/' "$d/case.yaml"
-  expect "indentation-unload, initial-stress, steps / $n: converges" 0 "" -- run "$d/case.yaml" --quiet
-done
-if "$ex_py" - "$h_newton" "$work"/issue16/indentation-unload-initial-stress-{1,2}/case.out/history.csv <<'PY'; then ok "indentation-unload: initial-stress's permanent dent approaches newton's at first order in the step"; else bad "indentation-unload: initial-stress's dent does not approach newton's"; fi
+cores=Prescott
+grep -qw avx2 /proc/cpuinfo && cores="$cores Haswell"
+for scheme in initial-stress variable-stiffness variable-stiffness/strain; do
+  for core in $cores; do
+    OPENBLAS_CORETYPE=$core cv_run indentation-unload "$scheme"
+    if "$ex_py" - "$h_newton" "$h" <<'PY'; then ok "indentation-unload, $scheme ($core kernels): newton's dent to 1e-5"; else bad "indentation-unload, $scheme ($core kernels): the dent is not newton's"; fi
 import csv, sys
-a, b1, b2 = (float(list(csv.DictReader(open(f)))[-1]["centre.displacement.z"]) for f in sys.argv[1:4])
-print(a, b1, b2)
-sys.exit(0 if a < -2e-3 and abs(b2 - a) <= 0.5 * abs(b1 - a) and abs(b2 - a) <= 0.015 * abs(a) else 1)
+a, b = (float(list(csv.DictReader(open(f)))[-1]["centre.displacement.z"]) for f in sys.argv[1:3])
+print(a, b)
+sys.exit(0 if a < -2e-3 and abs(b - a) <= 1e-5 * abs(a) else 1)
 PY
+  done
+done
 
 # The initial-strain schemes on the indentation: converged since the held plastic set
 # (Equilibrium::hold), still cut back in loading steps where the contact set under the ball
-# oscillates (2 and 4 times), never while the ball is lifted. (variable-stiffness converges
-# here too with this machine's OpenBLAS kernels, 168 iterations and no cut-back, but not with
-# others: with OPENBLAS_CORETYPE=Haswell or Zen its unloading step stalls at 3.7e-6 and the
-# run ends with status 2, with SkylakeX it is cut back once. A check that passes on one BLAS's
-# rounding only is not kept; docs/schemes.md, "What is still open".)
+# oscillates (2 and 4 times), never while the ball is lifted.
 d="$work/issue16/indentation-unload-initial-strain-stiffness"
 rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/indentation-unload"/* "$d/"
 sed -i -E "s/^  scheme: newton$/  scheme: initial-strain-stiffness/" "$d/case.yaml"
@@ -161,14 +161,14 @@ for scheme in initial-stress initial-stress-stiffness; do
   cv_run epp-cylinder "$scheme"
   cp "$h" "$work/issue16/epp-$scheme.csv"
 done
-# The two initial-stress schemes share their point law: the same answer to the tolerance
-# (measured 7e-10 relative). newton's flow direction is implicit, theirs explicit: they differ
-# by O(Δt) (docs/schemes.md; measured 0.22 % here at 10 steps).
-if "$ex_py" - "$ref" "$work"/issue16/epp-initial-stress.csv "$work"/issue16/epp-initial-stress-stiffness.csv <<'PY'; then ok "epp-cylinder: initial-stress(-stiffness) agree to 1e-7, and with newton to 0.5 %"; else bad "epp-cylinder: the schemes' u_r(bore) disagree"; fi
+# The two initial-stress schemes share newton's point law (the radial return): the same
+# answer to the tolerance 1e-8 (measured 7e-10 relative between them; they differed from
+# newton by 0.22 % when they took the flow direction of the step's start).
+if "$ex_py" - "$ref" "$work"/issue16/epp-initial-stress.csv "$work"/issue16/epp-initial-stress-stiffness.csv <<'PY'; then ok "epp-cylinder: initial-stress(-stiffness) agree with each other and with newton to 1e-7"; else bad "epp-cylinder: the schemes' u_r(bore) disagree"; fi
 import csv, sys
 n, a, b = (float(list(csv.DictReader(open(f)))[-1]["bore.displacement.x"]) for f in sys.argv[1:4])
 print(n, a, b)
-sys.exit(0 if abs(a - b) <= 1e-7 * abs(a) and abs(a - n) <= 5e-3 * abs(n) else 1)
+sys.exit(0 if abs(a - b) <= 1e-7 * abs(a) and abs(a - n) <= 1e-7 * abs(n) else 1)
 PY
 
 # --- Finding 5: variable-stiffness is slow (the secant converges linearly). One secant step of
