@@ -103,12 +103,12 @@ enum class Direction {
   start,
 };
 
-AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0,
-               const Voigt& x, Direction d) {
+AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0, const Voigt& x,
+               Direction d) {
   AlongZ a;
   a.dx = Tangent{}.times(k1, x);
-  take_direction(a, ps.flowing && d == Direction::start ? ps.z : flow_direction(sigma0 + a.dx),
-                 ps, sigma0);
+  take_direction(a, ps.flowing && d == Direction::start ? ps.z : flow_direction(sigma0 + a.dx), ps,
+                 sigma0);
   return a;
 }
 
@@ -294,8 +294,8 @@ class VariableStiffness final : public Scheme {
     // undershot by 1 − θ per iteration. D̃ takes θ across Z and keeps the secant along it
     // (the ball indentation: 244 -> 78 iterations, newton 37; docs/schemes.md).
     const double q_tr = a.q0 + three_g * a.xt;  // Zᵀ(σ(t) + Dx), Z the trial's direction
-    const double theta = lambda > 0 && q_tr > 0 ? std::clamp(1 - three_g * lambda / q_tr, 0.0, 1.0)
-                                                : 1.0;
+    const double theta =
+        lambda > 0 && q_tr > 0 ? std::clamp(1 - three_g * lambda / q_tr, 0.0, 1.0) : 1.0;
     u.tangent = d_tilde(k1, a.z, matrix_tan, theta);
     finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, memory.lambda0, u);
     u.next.stress_form = stress_form;

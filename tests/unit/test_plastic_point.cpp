@@ -244,8 +244,7 @@ TEST(PlasticPoint, DTildeScaledAcrossZ) {
       const double tr = (e[0] + e[1] + e[2]) / 3;
       for (int i = 0; i < 3; ++i) e[i] -= tr;
       e -= (z.dot(steel.stiffness() * e) / z.dot(steel.stiffness() * z)) * z;
-      EXPECT_LE((c * e - theta * (steel.stiffness() * e)).norm(),
-                1e-10 * two_g * e.norm());
+      EXPECT_LE((c * e - theta * (steel.stiffness() * e)).norm(), 1e-10 * two_g * e.norm());
       // the volume: a mean strain gives the bulk modulus' stress
       Voigt v = Voigt::Zero();
       v[0] = v[1] = v[2] = 1e-3;

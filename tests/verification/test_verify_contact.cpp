@@ -21,9 +21,9 @@
 //    P (+0.4 % on δ(P)). The mesh error of P is smaller than that and of the other sign (a
 //    coarse mesh resolves the edge of the contact late and carries less force): P is +0.35 %
 //    from Hertz at h_c = a/3 and +0.54 % at a/8 (−0.3 % at a/2 with a/R = 0.02), so its error
-//    vs Hertz cannot decrease under refinement; it is checked against the 5 % bound only. The quantities whose error is the
-//    mesh's — a, p0 and the pressure field — must be within 5 % on the finer mesh and better
-//    on it than on the coarser one.
+//    vs Hertz cannot decrease under refinement; it is checked against the 5 % bound only. The
+//    quantities whose error is the mesh's — a, p0 and the pressure field — must be within 5 % on
+//    the finer mesh and better on it than on the coarser one.
 //
 //    Estimator of a and p0. The nodal pressure is the support's normal force over the node's
 //    tributary area ∫Ñ dA (nodal_contact). Hertz's p² = p0²(1 − r²/a²) is linear in r², so a
@@ -54,10 +54,10 @@
 //    both y faces, half model (x ≥ 0). Two elastic steps, one long plastic step to δ_max =
 //    3.4 δ_yield, two elastic unloading steps to δ_max/2, with `newton` and with
 //    `initial-stress-stiffness`. The schemes solve the same discrete problem at
-//    every step only when each plastic step starts from a state without plastic flow
-//    (docs/schemes.md: the fixed-matrix schemes keep the flow direction of the start of the
-//    step, newton that of its end, an O(Δt) difference over several plastic steps); the load
-//    path is chosen so (checked: no plastic points in the elastic and unloading steps). Then
+//    every step (docs/schemes.md: both take the flow direction of the iterate's trial stress;
+//    the load path was chosen, when the fixed-matrix schemes kept the direction of the step's
+//    start, so that each plastic step starts from a state without plastic flow: checked, no
+//    plastic points in the elastic and unloading steps). Then
 //    the curves differ only by what the iterations leave: by the argument of
 //    test_verify_plastic_schemes.cpp a relative residual ≤ tol leaves a relative error
 //    ≤ (1 + 3G/H) tol, twice for the curve defect, in each of the two runs: 4(1 + 3G/H) tol of

@@ -5,18 +5,19 @@
 //
 // What "the same answer" means (docs/schemes.md, "One loop for all schemes"). Every scheme
 // iterates towards the same converged point law: the stress projected on the step's flow
-// direction Z lands on the curve. For a point that is elastic at the start of the step, Z is the
-// direction of the elastic trial stress and that law is the radial return of `newton`; for a
-// point that was already flowing, the schemes keep Z = Z(t) (explicit direction) where `newton`
-// takes it at the end of the step (implicit). Hence:
+// direction Z lands on the curve. newton, variable-stiffness and the initial stresses take Z
+// from the iterate's elastic trial stress, and for them that law is the radial return of
+// `newton`; so do the initial strains for a point elastic at the start of the step, while for a
+// point that was already flowing they keep the report's Z = Z(t) (explicit direction). Hence:
 //
 // (a) a plastic step that starts from a state without plastic flow (here: one elastic step,
 //     then one step far into the plastic range) is the same discrete problem for every scheme,
 //     and they differ from `newton` only by what the iterations leave unconverged;
 // (b) over several plastic steps on a non-proportional path (the cylinder: σ_z drifts towards
-//     the mean of σ_r and σ_θ as the wall yields) the five schemes still share one discrete
-//     problem, but `newton` solves another one: the two differ by O(Δt) (first order), and both
-//     tend to the same solution as the steps are refined. This file checks both statements.
+//     the mean of σ_r and σ_θ as the wall yields) the same holds for the trial-direction
+//     schemes, while the two initial-strain schemes share another discrete problem: they differ
+//     from `newton` by O(Δt) (first order), and both tend to the same solution as the steps are
+//     refined. This file checks both statements.
 //
 // The bound of (a). The step stops when the relative residual ‖F − F_int‖/‖F‖ and the scheme's
 // curve defect (Δ^σ or Δ^ε, a relative RMS over the plastic points) are below solver.tolerance
@@ -384,8 +385,7 @@ TEST(VerifyPlasticSchemes, ThickCylinderSeveralStepsInitialStrainsDifferFromNewt
     if (r->s.scheme == "initial-strain") strains = r.get();
   ASSERT_TRUE(strains != nullptr && strains->converged());
   ASSERT_TRUE(newton->converged()) << newton->run->result.failure;
-  const SchemeDifference dn =
-      difference(newton->model(), strains->state(), newton->state(), bound);
+  const SchemeDifference dn = difference(newton->model(), strains->state(), newton->state(), bound);
   for (const auto& r : runs) {
     SCOPED_TRACE(r->s.label());
     EXPECT_EQ(r->converged(), r->s.converges) << r->run->result.failure;
@@ -415,7 +415,8 @@ TEST(VerifyPlasticSchemes, ThickCylinderSeveralStepsInitialStrainsDifferFromNewt
   for (int n : {8, 16}) {
     c.times = times(n);
     auto rn = run_scheme(dir.path(), {"newton"}, yaml, fmt::format("steps{}", n));
-    auto ri = run_scheme(dir.path(), {"initial-strain", "stress", 0.1}, yaml, fmt::format("steps{}", n));
+    auto ri =
+        run_scheme(dir.path(), {"initial-strain", "stress", 0.1}, yaml, fmt::format("steps{}", n));
     ASSERT_TRUE(rn->converged() && ri->converged());
     diff.push_back(difference(rn->model(), ri->state(), rn->state(), bound).u_field);
     report(fmt::format("cylinder {:2d} steps: newton vs initial-strain: u field {:.3e}", n,

@@ -303,10 +303,19 @@ for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:in
   d="$work/parallel-anderson-$case_-$scheme"
   rm -rf "$d" && mkdir -p "$d" && cp "$src/tests/cli/inputs/issue16/$case_"/* "$d/"
   sed -i -E "s/^  scheme: newton$/  scheme: $scheme/" "$d/case.yaml"
+  # variable-stiffness's path depends on the last bits of its iterates: on the perfectly plastic
+  # cylinder a point at the yield surface whose increment turns its stress is plastic by a λ of
+  # second order in the increment (the iterate takes its trial's direction), and its matrix
+  # along Z switches between 0 and 3G with it. The ranks' CG + GAMG and the serial CHOLMOD then
+  # take different paths (measured at the case's tolerance 1e-8: 53 and 56 iterations, 1.5e-8
+  # apart; with MUMPS on the ranks 54 and 56, 5.7e-9). It is run at 1e-10, where the two answers
+  # are 8e-11 apart, and its iterations are not compared.
+  [ "$scheme" = variable-stiffness ] && sed -i -E "s/^  tolerance: 1e-8$/  tolerance: 1e-10/" "$d/case.yaml"
   expect "parallel anderson, $case_, $scheme: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
   mpi_expect "parallel anderson, $case_, $scheme: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
   same "parallel anderson, $case_, $scheme: 2 ranks = serial to 1e-8" "$d/r1" "$d/r2" 1e-8 \
     displacement,stress,equivalent_plastic_strain
+  [ "$scheme" = variable-stiffness ] && continue
   ex_check "parallel anderson, $case_, $scheme: the same iterations on 2 ranks" "$d/r2/summary.json" \
     's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"]'
 done
