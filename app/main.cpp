@@ -28,6 +28,7 @@
 #include "input/case_reader.hpp"
 #include "input/gmsh_reader.hpp"
 #include "input/load_case.hpp"
+#include "linalg/blas_kernels.hpp"
 #include "output/checkpoint.hpp"
 #include "output/results.hpp"
 #include "parallel/mesh_part.hpp"
@@ -357,6 +358,7 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
   log.quiet = quiet;
   log.silent = !par::root();
   if (!threads_warning.empty()) log.warn(threads_warning);
+  if (const std::string note = blas_kernels_note(); !note.empty()) log.detail("{}", note);
   fs::path dir;  // the output directory, from -o or output.dir
   SourceLocation dir_where;
   // On several ranks the mesh is distributed (docs/parallel.md): root reads it and checks the
@@ -495,6 +497,8 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
                               {"factor_nonzeros", st.factor_nnz},
                               {"matrix_nonzeros", st.matrix_nnz},
                               {"iterations", st.iterations}};
+  if (const BlasKernels k = blas_kernels(); !k.chosen.empty())
+    summary["linear_solver"]["blas_kernels"] = k.chosen;  // OpenBLAS's, after any restart
   if (st.n_factorizations > 0 && timings.factorization > 0)
     summary["linear_solver"]["factor_gflops_per_second"] =
         st.factor_flops * st.n_factorizations / timings.factorization * 1e-9;
@@ -617,6 +621,8 @@ bool set_threads(bool given, int threads, std::string& warning) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First of all: it may start the process again (before any other work is done).
+  restart_with_better_blas_kernels(argv);
   CLI::App app{"hencky: thermo-elastic finite-element analysis of 3D structures"};
   app.set_version_flag("--version", std::string("hencky ") + HENCKY_VERSION);
   app.require_subcommand(1);

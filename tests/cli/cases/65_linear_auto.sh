@@ -64,3 +64,32 @@ else
 fi
 ex_check "auto, linear: direct: summary names CHOLMOD" "$la_dir/direct.out/summary.json" \
   '"CHOLMOD" in s["linear_solver"]["method"]'
+
+# The BLAS kernels (linalg/blas_kernels.hpp). Debian 12's OpenBLAS runs its SSE3 fallback
+# ("Prescott") on CPUs it does not know; hencky then starts itself again with
+# OPENBLAS_CORETYPE set. On a CPU with AVX2 the kernels in use must use it; with
+# HENCKY_BLAS_KERNELS=keep they are OpenBLAS's own choice, and a user's OPENBLAS_CORETYPE wins.
+la_kernels() { "$ex_py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["linear_solver"].get("blas_kernels", ""))' "$1"; }
+k_default="$(la_kernels "$la_dir/default.out/summary.json")"
+if ! grep -qw avx2 /proc/cpuinfo || [ -z "$k_default" ]; then
+  ok "blas kernels: no AVX2 or not OpenBLAS here ('$k_default'), nothing to check"
+elif grep -Eqix "prescott|core2|penryn|dunnington|nehalem|atom|sandybridge" <<<"$k_default"; then
+  bad "blas kernels: OpenBLAS runs '$k_default' on a CPU with AVX2"
+else
+  ok "blas kernels: '$k_default' on a CPU with AVX2"
+fi
+expect_cmd "blas kernels, keep: runs" 0 "" -- env HENCKY_BLAS_KERNELS=keep \
+  "$bin" run "$la_dir/case.yaml" -o "$la_dir/keep.out" --quiet
+if grep -q "^BLAS: " "$la_dir/keep.out/hencky.log"; then
+  bad "blas kernels, keep: the log says it started again"
+else
+  ok "blas kernels, keep: not started again"
+fi
+expect_cmd "blas kernels, OPENBLAS_CORETYPE=Haswell: runs" 0 "" -- env OPENBLAS_CORETYPE=Haswell \
+  "$bin" run "$la_dir/case.yaml" -o "$la_dir/haswell.out" --quiet
+if ! grep -qw avx2 /proc/cpuinfo || [ -z "$k_default" ]; then
+  ok "blas kernels: the user's OPENBLAS_CORETYPE (not checked here: no AVX2 or not OpenBLAS)"
+else
+  ex_check "blas kernels: the user's OPENBLAS_CORETYPE is kept" "$la_dir/haswell.out/summary.json" \
+    's["linear_solver"]["blas_kernels"].lower() == "haswell"'
+fi
