@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace hencky {
@@ -330,9 +329,10 @@ class FixedMatrixScheme : public Scheme {
   /// by 3G/tan β*_0 (a hundredfold for a curve hardening at a hundredth of 3G): its trial stress
   /// lands on the far side of the yield surface, where the radial return would
   /// yield it in reverse, and from there the elastic matrix takes it back by the factor
-  /// 1 − tan β/3G per iteration (unload-force, initial-stress-stiffness: 64 iterations and
-  /// Anderson's fallback every third one, against 1). Along Z(t) it lies on the elastic line,
-  /// and the next solve, with 3G, lands on the elastic answer.
+  /// 1 − tan β/3G per iteration (unload-force, initial-stress-stiffness: 64 iterations in the
+  /// first unloading step with Anderson's fallback every third one, against 10 for the whole
+  /// run). Along Z(t) it lies on the elastic line, and the next solve, with 3G, lands on the
+  /// elastic answer.
   AlongZ along_z_of_fixed_matrix(const ElasticConstants& k1, const PointStep& ps,
                                  PointIteration& it, const Voigt& sigma0, const Voigt& x,
                                  Direction direction) const {
