@@ -23,27 +23,22 @@ Voigt Tangent::times(const ElasticConstants& k, const Voigt& e) const {
   return s + coef * v.dot(e) * v;
 }
 
-Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta) {
+Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta) {
   const double three_g = 3 * k.shear_modulus();
-  if (tan_beta == three_g) return Tangent{};  // β* = β^e: D̃ = D, (2.13)
+  if (tan_beta == three_g && theta == 1) return Tangent{};  // β* = β^e: D̃ = D, (2.13)
   Tangent t;
   t.v = k.stiffness() * z;  // DZ
   const double zdz = z.dot(t.v);
   if (zdz <= 0) return Tangent{};  // Z = 0: no direction yet, D̃ = D
-  // −1/(E* + ZᵀDZ) with E* = tanβ·3G/(3G − tanβ), (2.11), multiplied through by (3G − tanβ).
-  t.coef = -(three_g - tan_beta) / (tan_beta * three_g + zdz * (three_g - tan_beta));
-  return t;
-}
-
-Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta) {
-  if (theta == 1) return d_tilde(k, z, tan_beta);
-  Tangent t;
-  t.v = k.stiffness() * z;  // DZ
-  const double zdz = z.dot(t.v);
-  if (zdz <= 0) return Tangent{};
+  if (theta == 1) {
+    // −1/(E* + ZᵀDZ) with E* = tanβ·3G/(3G − tanβ), (2.11), multiplied through by (3G − tanβ).
+    t.coef = -(three_g - tan_beta) / (tan_beta * three_g + zdz * (three_g - tan_beta));
+    return t;
+  }
+  // Across Z the deviator scaled by θ; along Z, Zᵀ C x = (1 + dev_scale + coef·ZᵀDZ)·ZᵀDx, which
+  // is to be tan β*/3G · ZᵀDx.
   t.dev_scale = theta - 1;
-  // Zᵀ C x = (1 + dev_scale + coef·ZᵀDZ)·ZᵀDx, which is to be tan β*/3G · ZᵀDx.
-  t.coef = (tan_beta / (3 * k.shear_modulus()) - theta) / zdz;
+  t.coef = (tan_beta / three_g - theta) / zdz;
   return t;
 }
 

@@ -59,11 +59,9 @@ struct Tangent {
 /// D̃(β*) = D(I − Ỹ), Ỹ = Z(ZᵀD)/(E* + ZᵀDZ), (2.9)-(2.10), as a Tangent. Written with
 /// 1/(E* + ZᵀDZ) = (3G − tan β*)/(tan β*·3G + ZᵀDZ·(3G − tan β*)), which has no singularity
 /// at β* = β^e (D̃ = D, (2.13)) and gives E* = 0 at tan β* = 0 (perfect plasticity).
-Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta);
-
-/// D̃(β*) with its deviatoric part across Z scaled by θ: the stiffness of the radial return
-/// across its direction, θ = σ̃/σ̃_tr (the stress scales the trial deviator by θ).
-Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta);
+/// With θ < 1 the deviatoric part across Z is scaled by θ while Zᵀ·D̃x keeps tan β*·ZᵀDx/3G:
+/// the radial return's stiffness across its direction, θ = σ̃/σ̃_tr (variable-stiffness).
+Tangent d_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta, double theta = 1);
 
 /// Ỹ of (2.10) as a full matrix (for the identities (2.14)-(2.16) in tests).
 Mat6 y_tilde(const ElasticConstants& k, const Voigt& z, double tan_beta);

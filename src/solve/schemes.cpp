@@ -207,11 +207,11 @@ class VariableStiffness final : public Scheme {
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
     const AlongZ a = along_z(k1, ps, sigma0, x, Direction::trial);
-    const PointIteration& memory = it;
     const bool right = ps.flowing;
+    const double q_tr = a.q0 + three_g * a.xt;  // Zᵀ(σ(t) + Dx), Z the trial's direction
     PointUpdate u;
-    double lambda = 0, new_tan = memory.tan_beta;
-    const double ds = memory.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
+    double lambda = 0, new_tan = it.tan_beta;
+    const double ds = it.tan_beta * a.xt;  // Δσ̃_k of the solve with D̃(β*_k)
     // The strain form, unless the point has turned to the stress form in this step (below),
     // or starts the step above the curve, where F(σ̃(t)) lies beyond ε̃(t): a yield stress that
     // falls with the temperature of t+Δt, or an answer at t left above the curve (when Z was
@@ -222,7 +222,7 @@ class VariableStiffness final : public Scheme {
     // secants of 6e3 Pa and falling by a fifth per iteration, the step cut back four times).
     // The stress form takes it, as for a negative secant below.
     const bool above_curve = ps.flowing && a.q0 > ps.curve.yield_now * (1 + above_curve_slack);
-    const bool strain_now = strain_form_ && !memory.stress_form && !above_curve;
+    const bool strain_now = strain_form_ && !it.stress_form && !above_curve;
     const auto fk = strain_now ? ps.curve.f(a.q0 + ds, right) : Hardening::Point{};
     // An iterate above the largest stress the curve reaches (the flat end of a table) has no
     // strain on the curve: the point takes the stress form as well (Φ is flat there).
@@ -232,13 +232,13 @@ class VariableStiffness final : public Scheme {
     // surface while the trial stress lies outside it, so (2.34) would take the iterate as
     // elastic with a stress outside the surface. The stress form's iterate does not depend on
     // the secant: the point takes it (both forms have the curve as their fixed point).
-    stress_form = stress_form || (ps.flowing && a.q0 + ds < ps.curve.yield_now &&
-                                  a.q0 + three_g * a.xt > ps.curve.yield_now);
+    stress_form =
+        stress_form || (ps.flowing && a.q0 + ds < ps.curve.yield_now && q_tr > ps.curve.yield_now);
     bool defects_set = false;
     double change = 0;  // tan β*_{k+1} − tan β*_k of the strain form
     if (!stress_form) {  // (2.34)
-      u.defect_eps = fk.value - (a.eps0 + memory.x_prev);
-      u.defect_sigma = ds - memory.ds_prev;
+      u.defect_eps = fk.value - (a.eps0 + it.x_prev);
+      u.defect_sigma = ds - it.ds_prev;
       defects_set = true;
       const double den = fk.value - a.eps0;
       // As above: the secant Δσ̃/(F(σ̃ + Δσ̃) − ε̃) is noise for Δσ̃ at round-off level.
@@ -256,9 +256,9 @@ class VariableStiffness final : public Scheme {
       // the answer at once: a point whose secant changes direction takes the stress form for
       // the rest of the step (measured, the issue-16 cases with curve_form: strain: 6 of 12
       // failed after cut-backs, 1 does now).
-      change = new_tan - memory.tan_beta;
-      stress_form = change * memory.secant_change < 0 &&
-                    std::abs(memory.secant_change) > 1e-6 * std::abs(memory.tan_beta);
+      change = new_tan - it.tan_beta;
+      stress_form = change * it.secant_change < 0 &&
+                    std::abs(it.secant_change) > 1e-6 * std::abs(it.tan_beta);
       // A negative secant (the point starts the step above the curve, below) sets λ off the
       // curve's side in (2.34) and makes D̃ indefinite; the stress form's iterate does not
       // depend on the slope: the point takes it (both forms have the curve as fixed point).
@@ -269,7 +269,7 @@ class VariableStiffness final : public Scheme {
       const auto ph = ps.curve.phi(a.eps0 + a.xt, right);
       if (!defects_set) {  // not where the strain form gave them (a point turning now)
         u.defect_sigma = ph.value - (a.q0 + ds);
-        u.defect_eps = a.xt - memory.x_prev;
+        u.defect_eps = a.xt - it.x_prev;
       }
       new_tan = stress_secant(ps, a.eps0, a.q0, a.xt, ph.value, right);
       lambda = a.xt - (ph.value - a.q0) / three_g;
@@ -292,11 +292,10 @@ class VariableStiffness final : public Scheme {
     // the stress turns within the step (under an indenter), D̃'s stiffer response across Z
     // undershot by 1 − θ per iteration. D̃ takes θ across Z and keeps the secant along it
     // (the ball indentation: 244 -> 78 iterations, newton 37; docs/schemes.md).
-    const double q_tr = a.q0 + three_g * a.xt;  // Zᵀ(σ(t) + Dx), Z the trial's direction
     const double theta =
         lambda > 0 && q_tr > 0 ? std::clamp(1 - three_g * lambda / q_tr, 0.0, 1.0) : 1.0;
     u.tangent = d_tilde(k1, a.z, matrix_tan, theta);
-    finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, memory.lambda0, u);
+    finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
     u.next.stress_form = stress_form;
     u.next.secant_change = change;
     return u;

@@ -25,7 +25,7 @@
 //   takes it), so the answer lies on the yield surface and equals newton's on any path;
 //   the initial-strain schemes keep the report's Mσ(t)/σ̃(t) (2.10) for a point that was
 //   flowing plastically at t, which their mixing of λ0 needs (`Direction` in schemes.cpp).
-//   With Z(t), and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G below, ε̃^{e+p}(t) + Δε̃^{e+p} is
+//   With the trial's Z, and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G below, ε̃^{e+p}(t) + Δε̃^{e+p} is
 //   ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
 #include <memory>
 #include <string>
