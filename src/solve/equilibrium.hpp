@@ -83,6 +83,7 @@ class Equilibrium {
                double residual, double& previous_residual);
   void line_search(const State& c, State& trial);
   void mix(State& trial);
+  double strain_state_change(const State& trial);
   double residual_vector(State& trial, double* loads2 = nullptr);
   double equilibrium_defect(const State& s) const;
   void remember_increment(const State& c, const State& trial);
@@ -138,10 +139,15 @@ class Equilibrium {
   // schemes' λ0 the current iterate was evaluated with and the points' plain update of it
   std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_, point_weights_;
   // with contact, the nodes' augmented state c (ContactStep::augmented_offsets) likewise
-  std::vector<double> contact_in_, contact_out_, contact_weights_;
+  std::vector<double> contact_in_, contact_out_, contact_weights_, contact_share_;
+  // The initial-strain schemes: the weighted square of the change of their state that the last
+  // iterate kept asked for (strain_state_change), what the safeguard compares the next with.
+  double last_change_ = 0;
   // The plain iterate the last mixed one replaced (its displacements, contact and points'
   // memory), taken instead when the mixed one doubled the residual.
   bool mixed_last_ = false, restart_next_ = false;
+  // The iteration the step's points started from: 0, or 1 when it began again (begin_again).
+  int first_iteration_ = 0;
   std::vector<double> plain_u_;
   std::vector<std::vector<ContactNode>> plain_contact_;
   // The initial-strain schemes' held plastic set (hold, move_holds): the iteration of the

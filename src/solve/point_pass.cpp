@@ -225,20 +225,28 @@ void PointPass::for_plastic_points(F&& f) const {
   }
 }
 
-void PointPass::initial_strains(std::vector<double>& lambda0) const {
-  lambda0.clear();
-  for_plastic_points([&](int p) { lambda0.push_back(point_iter_[p].lambda0); });
+void PointPass::initial_strains(std::vector<double>& e0) const {
+  e0.clear();
+  for_plastic_points([&](int p) {
+    const Voigt& v = point_iter_[p].e0;
+    e0.insert(e0.end(), v.data(), v.data() + 6);
+  });
 }
 
 void PointPass::plastic_point_weights(std::vector<double>& weight) const {
   weight.clear();
-  for_plastic_points(
-      [&](int p) { weight.push_back(point_volume_[p] * point_step_[p].curve.three_g); });
+  for_plastic_points([&](int p) {
+    // Δε^0 is deviatoric (along flow directions): Δε^0ᵀDΔε^0 = 2G Σ ε_ii² + G Σ γ_ij²
+    const double g = point_volume_[p] * point_step_[p].curve.three_g / 3;
+    for (int i = 0; i < 6; ++i) weight.push_back(i < 3 ? 2 * g : g);
+  });
 }
 
-void PointPass::set_initial_strains(std::span<const double> lambda0) {
+void PointPass::set_initial_strains(std::span<const double> e0) {
   std::size_t i = 0;
-  for_plastic_points([&](int p) { point_iter_[p].lambda0 = lambda0[i++]; });
+  for_plastic_points([&](int p) {
+    for (int j = 0; j < 6; ++j) point_iter_[p].e0[j] = e0[i++];
+  });
 }
 
 int PointPass::hold_plastic_set() {

@@ -52,14 +52,16 @@ class PointPass {
   const std::vector<Tangent>& tangents() const { return tangent_; }
   /// Puts the matrices of an earlier pass back (a restart, EquilibriumMemory::tangents).
   void set_tangents(std::vector<Tangent> t) { tangent_ = std::move(t); }
-  /// The initial-strain schemes' iterated state: λ0 at this rank's points of plastic materials
-  /// (PointIteration::lambda0, in the order of the cells).
-  void initial_strains(std::vector<double>& lambda0) const;
-  /// The weights of the same points, in the same order, in Anderson's least squares: volume
-  /// times 3G, so that the weighted square of a change of λ0 is an energy.
+  /// The initial-strain schemes' iterated state: Δε^0 (6 Voigt components, engineering
+  /// shears) at this rank's points of plastic materials (PointIteration::e0, in the order of
+  /// the cells).
+  void initial_strains(std::vector<double>& e0) const;
+  /// The weights of the same components, in the same order, in Anderson's least squares:
+  /// volume times 2G (normal) or G (shear), so that the weighted square of a change of the
+  /// deviatoric Δε^0 is an energy.
   void plastic_point_weights(std::vector<double>& weight) const;
-  /// Replaces λ0 at those points (Anderson's mixed iterate).
-  void set_initial_strains(std::span<const double> lambda0);
+  /// Replaces Δε^0 at those points (Anderson's mixed iterate).
+  void set_initial_strains(std::span<const double> e0);
   /// Keeps, and puts back, the scheme's memory and matrix at every point (Anderson's fallback to
   /// the plain iterate; a line search's trial iterate). With the matrices put back, the next
   /// update's tangent_changed compares with the matrices of the iterate before the trial.

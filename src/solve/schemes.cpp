@@ -83,31 +83,20 @@ void take_direction(AlongZ& a, const Voigt& z, const PointStep& ps, const Voigt&
   a.xt = a.z.dot(a.dx) / ps.curve.three_g;
 }
 
-/// Which Z an iterate is seen along, for a point that flowed up to t (a point elastic at t
-/// always takes its trial direction).
-enum class Direction {
-  /// The direction of the iterate's trial stress σ(t) + Dx, as the radial return takes it:
-  /// Z = Mσ/σ̃ of the answer, so the answer lies on the yield surface and is newton's (backward
-  /// Euler) to the tolerance on any path. newton, variable-stiffness, the initial stresses.
-  trial,
-  /// Z(t) = Mσ(t)/σ̃(t), (2.10), fixed over the step, as the report writes it: the stress
-  /// lands on the curve along Z(t) and its part across Z(t) stays elastic, so where the stress
-  /// turns within a step the answer lies above the yield surface (the ball indentation's
-  /// contact edge: von Mises 1.3-7.7 times the yield stress at t = 1 with variable-stiffness
-  /// before it took the trial direction, its ball force 26 % above newton's). The initial
-  /// strains keep it: for a fixed λ0 their stress law is then linear in the iterate, which is
-  /// what Anderson's mixing of λ0 relies on (Equilibrium::mix); with the trial direction the
-  /// mixed iterates doubled the residual every fourth iteration and the indentation stopped
-  /// with status 2.
-  start,
-};
-
-AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0, const Voigt& x,
-               Direction d) {
+/// The iterate x seen along the direction of its trial stress σ(t) + Dx, as the radial return
+/// takes it: Z = Mσ/σ̃ of the answer, so the answer lies on the yield surface and is newton's
+/// (backward Euler) to the tolerance on any path, with every scheme. The report's (2.10) takes
+/// Z(t) = Mσ(t)/σ̃(t), fixed over the step: the stress lands on the curve along Z(t) and its
+/// part across Z(t) stays elastic, so where the stress turns within a step the answer lies
+/// above the yield surface (the ball indentation's contact edge: von Mises 1.3-7.7 times the
+/// yield stress at t = 1 with variable-stiffness, its ball force 26 % above newton's; the
+/// initial strains 23-30 % from newton's dent). Z(t) remains the direction of the `-stiffness`
+/// schemes' matrix D̃(β*_0) (PointStep::z).
+AlongZ along_z(const ElasticConstants& k1, const PointStep& ps, const Voigt& sigma0,
+               const Voigt& x) {
   AlongZ a;
   a.dx = Tangent{}.times(k1, x);
-  take_direction(a, ps.flowing && d == Direction::start ? ps.z : flow_direction(sigma0 + a.dx), ps,
-                 sigma0);
+  take_direction(a, flow_direction(sigma0 + a.dx), ps, sigma0);
   return a;
 }
 
@@ -134,11 +123,11 @@ bool start_slope_on_unloading(const PointStep& ps, PointIteration& it, const Alo
 }
 
 /// The stress and plastic state of the iterate from the plastic multiplier `lambda` along Z,
-/// and the scheme's memory for the next iteration (ds: Δσ̃_k; new_tan: tan β of k+1; lambda0:
+/// and the scheme's memory for the next iteration (ds: Δσ̃_k; new_tan: tan β of k+1; e0:
 /// the initial strain of k+1).
 void finish(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
             const Voigt& sigma0, const AlongZ& a, double lambda, double ds, double new_tan,
-            double lambda0, PointUpdate& u) {
+            const Voigt& e0, PointUpdate& u) {
   // Round-off on the elastic line is not plastic flow.
   if (std::abs(lambda) <= 1e-12 * std::max(std::abs(a.eps0 + a.xt), ps.curve.eps_yield_now))
     lambda = 0;
@@ -155,7 +144,7 @@ void finish(const ElasticConstants& k1, const PointStep& ps, const PointIteratio
   u.next.x_prev = a.xt;
   u.next.ds_prev = ds;
   u.next.tan_beta = new_tan;
-  u.next.lambda0 = lambda0;
+  u.next.e0 = e0;
   u.next.plastic_prev = u.plastic;
   ++u.next.k;
 }
@@ -206,7 +195,7 @@ class VariableStiffness final : public Scheme {
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
-    const AlongZ a = along_z(k1, ps, sigma0, x, Direction::trial);
+    const AlongZ a = along_z(k1, ps, sigma0, x);
     const bool right = ps.flowing;
     const double q_tr = a.q0 + three_g * a.xt;  // Zᵀ(σ(t) + Dx), Z the trial's direction
     PointUpdate u;
@@ -295,7 +284,7 @@ class VariableStiffness final : public Scheme {
     const double theta =
         lambda > 0 && q_tr > 0 ? std::clamp(1 - three_g * lambda / q_tr, 0.0, 1.0) : 1.0;
     u.tangent = d_tilde(k1, a.z, matrix_tan, theta);
-    finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    finish(k1, ps, it, sigma0, a, lambda, ds, new_tan, it.e0, u);
     u.next.stress_form = stress_form;
     u.next.secant_change = change;
     return u;
@@ -333,9 +322,8 @@ class FixedMatrixScheme : public Scheme {
   /// run). Along Z(t) it lies on the elastic line, and the next solve, with 3G, lands on the
   /// elastic answer.
   AlongZ along_z_of_fixed_matrix(const ElasticConstants& k1, const PointStep& ps,
-                                 PointIteration& it, const Voigt& sigma0, const Voigt& x,
-                                 Direction direction) const {
-    AlongZ a = along_z(k1, ps, sigma0, x, direction);
+                                 PointIteration& it, const Voigt& sigma0, const Voigt& x) const {
+    AlongZ a = along_z(k1, ps, sigma0, x);
     if (stiffness_ && start_slope_on_unloading(ps, it, a, sigma0) && a.q0 < 0)
       take_direction(a, ps.z, ps, sigma0);
     return a;
@@ -351,6 +339,13 @@ class FixedMatrixScheme : public Scheme {
 
 /// Schemes 2 and 3, (2.35)-(2.37) and (2.38)-(2.40): initial strains on the curve's strain
 /// form, relaxed by ω, with the elastic matrix (2) or the start-of-step tangent (3).
+/// The report's initial strain is Z·λ0 with Z(t) fixed over the step; along the trial's Z,
+/// which turns from one iteration to the next, it is a tensor Δε^0 (PointIteration::e0): each
+/// iterate takes its multiplier λ_k along its own Z from the plastic strain that Δε^0 gives,
+/// corrects it by ω times the curve's defect, and sets Δε^0 to give Zλ_{k+1}. The stress is
+/// linear in the iterate for a fixed Δε^0, which Anderson's mixing of Δε^0 relies on
+/// (Equilibrium::mix); mixing the scalar λ0 while Z turned had doubled the residual every
+/// fourth iteration (the ball indentation stopped with status 2).
 /// A held point (PointIteration::held) takes one branch of the curve whatever its iterate's
 /// stress, and says when its stress lies beyond the yield stress by more than `hold_slack`
 /// relative on the other side: a point at the yield stress to within a millionth has an
@@ -369,10 +364,31 @@ class InitialStrain final : public FixedMatrixScheme {
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
     PointIteration memory = it;
-    const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x, Direction::start);
+    AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x);
     PointUpdate u;
-    const double tb = stiffness() ? it.tan_start : three_g;
-    const double ds = tb * (a.xt - it.lambda0);  // Δσ̃_k = ZᵀD̃(β*)(x − Zλ0_k)
+    // A point found unloading at this iterate (start_slope_on_unloading) takes the elastic
+    // line at once, with no initial strain: the next solve has the elastic matrix there.
+    const bool switched = memory.tan_start != it.tan_start;
+    const double tb = stiffness() ? memory.tan_start : three_g;
+    // The matrix D̃(β*_0) = D − c·DZ₀Z₀ᵀD/3G softens D along the step's Z₀ = Z(t) by
+    // c = 1 − tan β*_0/3G (c = 0: the elastic matrix). The iterate's stress σ(t) + D̃(x − Δε^0)
+    // is σ(t) + D(x − Δε^p) with the plastic strain Δε^p = Δε^0 + c·Z₀·Z₀ᵀD(x − Δε^0)/3G, and
+    // λ_k = ZᵀDΔε^p/3G is its multiplier along the iterate's Z (with Z = Z₀ the report's
+    // λ0 + c(Δε̃ − λ0) of (2.25)).
+    const double c = (three_g - tb) / three_g;
+    Voigt plastic = switched ? Voigt::Zero() : it.e0;
+    if (c != 0) plastic += c * (ps.z.dot(Tangent{}.times(k1, x - it.e0)) / three_g) * ps.z;
+    // A point held plastic whose trial stress lies inside the yield surface flows backwards on
+    // the continued branch (λ < 0): along its trial's Z, whose magnitude σ̃_tr = σ̃ − 3G|λ| can be
+    // small, the direction turns by 3G|λ|/σ̃_tr times the change of the iterate across it,
+    // more than once (the ball indentation, t = 0.25 → 0.5: the plain iteration cycled with
+    // period two, its residual stuck at 1.4e-2). Along the direction of its stress with the
+    // current Δε^0, σ̃ = σ̃_tr + 3G|λ|, the factor is below one. (Such a point leaves the held
+    // set before the step converges: the answer is the radial return's all the same.)
+    if (it.held > 0 && a.q0 + three_g * a.xt < ps.curve.yield_now)
+      take_direction(a, flow_direction(sigma0 + a.dx - Tangent{}.times(k1, plastic)), ps, sigma0);
+    const double lambda_k = a.z.dot(Tangent{}.times(k1, plastic)) / three_g;
+    const double ds = three_g * (a.xt - lambda_k);  // Δσ̃_k = Zᵀ(σ_k − σ(t))
     const double s = a.q0 + ds, y = ps.curve.yield_now;
     Hardening::Point fk;
     bool breaks_hold = false;
@@ -407,17 +423,20 @@ class InitialStrain final : public FixedMatrixScheme {
     // a between 1 (its stress held) and tan β*/tan β (its strain held): with this ω every
     // factor lies in [0, 1), half the stability bound (docs/schemes.md).
     const double omega = omega_ > 0 ? omega_ : std::min(1.0, 1.0 / (tb * fk.slope));
-    double lambda0 = it.lambda0 + omega * u.defect_eps;
-    // Δε^p = Ỹ(x − Zλ0) + Zλ0, (2.25): along Z, Ỹ contributes (3G − tanβ*)/3G of it.
-    const double lambda = lambda0 + (three_g - tb) / three_g * (a.xt - lambda0);
+    // λ0_{k+1} = λ0_k + ω(F − ε̃): along Z the plastic strain moves by (1 − c) of it, (2.25).
+    const double lambda = lambda_k + omega * (1 - c) * u.defect_eps;
+    // Δε^0_{k+1}: the initial strain that gives the plastic strain Zλ at this x under D̃,
+    // D̃(x − Δε^0) = D(x − Zλ): Δε^0 = Zλ − c/(1 − c)·Z₀·Z₀ᵀD(x − Zλ)/3G.
+    Voigt e0 = lambda * a.z;
+    if (c != 0) e0 -= c / (1 - c) * (ps.z.dot(Tangent{}.times(k1, x - e0)) / three_g) * ps.z;
     if (stiffness()) {
       // The initial strain gathered so far corrected the loading matrix; with the elastic one
       // an elastic unloading needs none (left in place it would only decay by 1 − ω per
       // iteration).
-      if (memory.tan_start != it.tan_start) lambda0 = 0;
+      if (switched) e0.setZero();
       u.tangent = d_tilde(k1, ps.z, memory.tan_start);
     }
-    finish(k1, ps, memory, sigma0, a, lambda, ds, it.tan_beta, lambda0, u);
+    finish(k1, ps, memory, sigma0, a, lambda, ds, it.tan_beta, e0, u);
     u.next.breaks_hold = breaks_hold;
     return u;
   }
@@ -438,7 +457,7 @@ class InitialStress final : public FixedMatrixScheme {
                        const Voigt& sigma0, const Voigt& x) const override {
     const double three_g = ps.curve.three_g;
     PointIteration memory = it;
-    const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x, Direction::trial);
+    const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x);
     const bool right = ps.flowing;
     PointUpdate u;
     const double tb = stiffness() ? it.tan_start : three_g;
@@ -453,7 +472,7 @@ class InitialStress final : public FixedMatrixScheme {
     if (stiffness()) {
       u.tangent = d_tilde(k1, ps.z, memory.tan_start);
     }
-    finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, it.lambda0, u);
+    finish(k1, ps, memory, sigma0, a, lambda, ds, new_tan, it.e0, u);
     return u;
   }
 };

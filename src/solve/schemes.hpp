@@ -22,11 +22,11 @@
 // - ε̃^{e+p}(t) at the start of a step is ε̃^p(t) + Zᵀσ(t)/3G(t+Δt): the advanced scalar on
 //   proportional paths, kept consistent with the actual stress on others and after reversals;
 // - Z is the direction of the iterate's elastic trial stress σ(t) + Dx (as the radial return
-//   takes it), so the answer lies on the yield surface and equals newton's on any path;
-//   the initial-strain schemes keep the report's Mσ(t)/σ̃(t) (2.10) for a point that was
-//   flowing plastically at t, which their mixing of λ0 needs (`Direction` in schemes.cpp).
-//   With the trial's Z, and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G below, ε̃^{e+p}(t) + Δε̃^{e+p} is
-//   ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
+//   takes it), so the answer lies on the yield surface and equals newton's on any path
+//   (`along_z` in schemes.cpp); the report's Mσ(t)/σ̃(t) (2.10) stays the direction of the
+//   `-stiffness` matrix. The initial strains therefore carry a tensor Δε^0, not Zλ0: their
+//   Z turns from one iteration to the next. With the trial's Z, and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G
+//   below, ε̃^{e+p}(t) + Δε̃^{e+p} is ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
 #include <memory>
 #include <string>
 
@@ -55,7 +55,10 @@ struct PointStep {
 /// The scheme's memory from one iteration to the next (discarded with the step).
 struct PointIteration {
   double tan_beta = 0;  ///< tan β*_k (variable stiffness) or tan β**_k (initial stresses)
-  double lambda0 = 0;   ///< Δε^0 = Z·λ0 (initial strains)
+  /// The initial strains' Δε^0_k, relative to the scheme's matrix: the iterate's stress is
+  /// σ(t) + D̃(x − Δε^0) (D̃ = D with the elastic matrix). A tensor, since the trial's Z turns
+  /// from one iteration to the next (with Z fixed it is Z·λ0 of (2.35)).
+  Voigt e0 = Voigt::Zero();
   double x_prev = 0;    ///< Δε̃^{e+p}_{k−1}
   double ds_prev = 0;   ///< Δσ̃_{k−1}
   bool plastic_prev = false;
@@ -104,9 +107,9 @@ class Scheme {
   /// Anderson mixing applies: a fixed matrix within the step (not newton and
   /// variable-stiffness, whose matrix changes every iteration).
   virtual bool allows_acceleration() const { return false; }
-  /// The iterated state is the initial strain Δε^0 = Zλ0 the points carry from one iteration
-  /// to the next (PointIteration::lambda0), which the displacements follow: Anderson mixes λ0
-  /// (the initial-strain schemes). Otherwise the iterate is the displacement alone.
+  /// The iterated state is the initial strain Δε^0 the points carry from one iteration to the
+  /// next (PointIteration::e0), which the displacements follow: Anderson mixes Δε^0 (the
+  /// initial-strain schemes). Otherwise the iterate is the displacement alone.
   virtual bool iterates_initial_strain() const { return false; }
   /// Uses the curve's strain form F = ε(σ) (undefined above the curve's largest stress).
   virtual bool uses_strain_form() const { return false; }

@@ -353,39 +353,25 @@ TEST(VerifyPlasticSchemes, ThickCylinderRambergOsgoodOneStep) {
 
 // (b) Linear hardening over four plastic steps (0.5 p_L elastic, then to 0.8 p_L in steps of
 // 0.075 p_L): points that flow in one step start the next one flowing, and the path is not
-// proportional (σ_z drifts as the wall yields). newton, variable-stiffness and the initial
-// stresses see each iterate along the direction of its trial stress and so solve newton's
-// discrete problem: they agree with newton within the bound of (a). The initial strains keep
-// the report's explicit flow direction Z(t) (schemes.cpp, `Direction`): they agree with each
-// other within that bound and differ from newton by O(Δt): with 8 and 16 steps the difference
-// halves with the step (first order), and both approach the same solution.
-TEST(VerifyPlasticSchemes, ThickCylinderSeveralStepsInitialStrainsDifferFromNewtonByOrderDt) {
+// proportional (σ_z drifts as the wall yields). Every scheme sees each iterate along the
+// direction of its trial stress (schemes.cpp, `Direction`) and so solves newton's discrete
+// problem: each agrees with newton within the bound of (a). With the report's explicit Z(t),
+// which the initial strains kept before, they differed from newton by O(Δt): 2.8e-4 of the
+// displacement field here, 1.2e-4 and 5.7e-5 with 8 and 16 steps.
+TEST(VerifyPlasticSchemes, ThickCylinderSeveralStepsEverySchemeGivesNewtonsAnswer) {
   HardeningCylinder c;
   const double H = c.E / 10;
   c.plasticity = fmt::format("{{linear: {{yield: {}, hardening: {}}}}}", num(c.sy), num(H));
   TempDir dir("schemes-cylinder-steps");
   write_ring(dir, c);
   const double kappa = 1 + three_g(c.E, c.nu) / H, bound = 4 * kappa * c.tol;
-  auto times = [](int n) {
-    std::string s = "[0.625";
-    for (int k = 1; k <= n; ++k) s += ", " + num(0.625 + 0.375 * k / n);
-    return s + "]";
-  };
-  c.times = times(4);
+  c.times = "[0.625, 0.71875, 0.8125, 0.90625, 1]";
   auto yaml = [&](const Scheme& s) { return c.yaml(s); };
   std::vector<std::unique_ptr<SchemeRun>> runs;
   for (const Scheme& s : schemes_for(0.1))
     runs.push_back(run_scheme(dir.path(), s, yaml, "steps4"));
-  const auto explicit_z = [](const Scheme& s) {
-    return s.scheme == "initial-strain" || s.scheme == "initial-strain-stiffness";
-  };
   const SchemeRun* newton = runs.front().get();
-  const SchemeRun* strains = nullptr;  // the reference of the explicit direction
-  for (const auto& r : runs)
-    if (r->s.scheme == "initial-strain") strains = r.get();
-  ASSERT_TRUE(strains != nullptr && strains->converged());
   ASSERT_TRUE(newton->converged()) << newton->run->result.failure;
-  const SchemeDifference dn = difference(newton->model(), strains->state(), newton->state(), bound);
   for (const auto& r : runs) {
     SCOPED_TRACE(r->s.label());
     EXPECT_EQ(r->converged(), r->s.converges) << r->run->result.failure;
@@ -396,42 +382,14 @@ TEST(VerifyPlasticSchemes, ThickCylinderSeveralStepsInitialStrainsDifferFromNewt
                       r->s.label(), r->run->result.iterations, r->run->result.factorizations));
       continue;
     }
-    const SchemeRun* ref = explicit_z(r->s) ? strains : newton;
-    const SchemeDifference d = difference(r->model(), r->state(), ref->state(), bound);
+    const SchemeDifference d = difference(r->model(), r->state(), newton->state(), bound);
     report(
         fmt::format("cylinder 4 steps: {:<26} iterations {:4d} factorizations {:3d} {:5.2f} s "
-                    "| vs {}: u field {:.1e} eps_p max {:.1e} | vs newton: u field {:.1e}",
+                    "| vs newton: u field {:.1e} eps_p max {:.1e}",
                     r->s.label(), r->run->result.iterations, r->run->result.factorizations,
-                    r->seconds, ref->s.scheme, d.u_field, d.ep_max,
-                    difference(r->model(), r->state(), newton->state(), bound).u_field));
+                    r->seconds, d.u_field, d.ep_max));
     check_within(d, bound);
   }
-  // The explicit direction differs from newton by far more than the iteration error: a
-  // different discrete problem.
-  EXPECT_GT(dn.u_field, 100 * bound);
-
-  // First order in Δt: the newton − initial-strain difference with 8 and 16 steps.
-  std::vector<double> diff;
-  for (int n : {8, 16}) {
-    c.times = times(n);
-    auto rn = run_scheme(dir.path(), {"newton"}, yaml, fmt::format("steps{}", n));
-    auto ri =
-        run_scheme(dir.path(), {"initial-strain", "stress", 0.1}, yaml, fmt::format("steps{}", n));
-    ASSERT_TRUE(rn->converged() && ri->converged());
-    diff.push_back(difference(rn->model(), ri->state(), rn->state(), bound).u_field);
-    report(fmt::format("cylinder {:2d} steps: newton vs initial-strain: u field {:.3e}", n,
-                       diff.back()));
-  }
-  // Observed order from 8 to 16 steps: first order (the direction lags by one step, O(Δt),
-  // on plastic increments of O(Δt), summed over 1/Δt steps), not zero (two problems that do not
-  // approach each other) and not second order.
-  const double order = std::log2(diff[0] / diff[1]);
-  report(
-      fmt::format("cylinder: newton vs initial-strain u field: 4 steps {:.3e}, 8 {:.3e}, 16 "
-                  "{:.3e}; observed order {:.2f}",
-                  dn.u_field, diff[0], diff[1], order));
-  EXPECT_GT(order, 0.75);
-  EXPECT_LT(order, 1.5);
 }
 
 // ------------------------------------------------------------------------------------------
