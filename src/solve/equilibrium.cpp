@@ -164,6 +164,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   distances_.clear();
   anderson_.reset();
   mixed_last_ = restart_next_ = false;
+  last_change_ = INFINITY;
   first_iteration_ = 0;
   holding_ = false;
   hold_set_ = plastic_ && scheme_->iterates_initial_strain();
@@ -637,7 +638,7 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     restart_next_ = true;  // the history starts again at the plain iterate
     return;
   }
-  if (strains) last_change_ = change;
+  if (strains && iteration > 0) last_change_ = change;
   // Asked on every rank: on a distributed mesh the ranks agree on it (collective).
   const bool stale = contact_.matrix_stale(trial);
   const bool refactor = new_elements || stale;
@@ -772,6 +773,8 @@ double Equilibrium::strain_state_change(const State& trial) {
   // The points are each rank's own.
   if (only_ || layout_.kind() == NodalLayout::Kind::distributed)
     par::sum_in_place(std::span<double>(&sum, 1));
+  // Every rank takes the same decisions with it: root's figure.
+  if (layout_.shared()) par::broadcast(std::span<double>(&sum, 1));
   return sum;
 }
 
