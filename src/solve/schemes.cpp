@@ -416,19 +416,22 @@ class InitialStrain final : public FixedMatrixScheme {
     }
     u.defect_eps = fk.value - (a.eps0 + a.xt);
     u.defect_sigma = ds - it.ds_prev;
-    // Δε^0_{k+1} = Δε^0_k + ω(F − ε̃)·Z. relaxation: auto (omega_ = 0) takes ω = 1/(tan β*·F'(σ̃_k))
+    // λ_{k+1} = λ_k + ω(F − ε̃). relaxation: auto (omega_ = 0) takes ω = 1/(tan β*·F'(σ̃_k))
     // (= tan β/3G with the elastic matrix) from the curve's slope tan β = 1/F' where the
     // iterate's stress is: the scalar Newton step of a point whose strain is held, which lands
     // it on a linear curve at once. A point held by its surroundings contracts by 1 − a·ω with
     // a between 1 (its stress held) and tan β*/tan β (its strain held): with this ω every
     // factor lies in [0, 1), half the stability bound (docs/schemes.md).
     const double omega = omega_ > 0 ? omega_ : std::min(1.0, 1.0 / (tb * fk.slope));
-    // λ0_{k+1} = λ0_k + ω(F − ε̃): along Z the plastic strain moves by (1 − c) of it, (2.25).
+    // The report's λ0_{k+1} = λ0_k + ω(F − ε̃): along Z the plastic strain moves by (1 − c) of
+    // it, (2.25).
     const double lambda = lambda_k + omega * (1 - c) * u.defect_eps;
     // Δε^0_{k+1}: the initial strain that gives the plastic strain Zλ at this x under D̃,
-    // D̃(x − Δε^0) = D(x − Zλ): Δε^0 = Zλ − c/(1 − c)·Z₀·Z₀ᵀD(x − Zλ)/3G.
+    // D̃(x − Δε^0) = D(x − Zλ): Δε^0 = Zλ − c/(1 − c)·Z₀·Z₀ᵀD(x − Zλ)/3G. (A start slope of 0,
+    // c = 1, leaves D̃ without stiffness along Z₀: any component there gives the same stress.)
     Voigt e0 = lambda * a.z;
-    if (c != 0) e0 -= c / (1 - c) * (ps.z.dot(Tangent{}.times(k1, x - e0)) / three_g) * ps.z;
+    if (c != 0 && c < 1)
+      e0 -= c / (1 - c) * (ps.z.dot(Tangent{}.times(k1, x - e0)) / three_g) * ps.z;
     if (stiffness()) {
       // The initial strain gathered so far corrected the loading matrix; with the elastic one
       // an elastic unloading needs none (left in place it would only decay by 1 − ω per
