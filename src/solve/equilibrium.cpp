@@ -85,6 +85,14 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // initial-strain-stiffness, took 677 iterations and failed on reloading with the elastic
   // start, 0.99 per iteration from the elastic iterate; 37 iterations without).
   elastic_start_ = !given_omega;
+  // The history's depth: the initial strains' state (Δε^0 along the trial's Z, the held
+  // plastic set, with contact the nodes' c) is further from linear than the initial stresses'
+  // displacements, and a longer history fits more of it. Measured with depth 5 -> 8 -> 10 on
+  // the issue-16 table: the indentation 1742 iterations and 4 cut-backs -> 833 and 2 -> 831 and
+  // 2 (initial-strain), 587 -> 499 -> 527 (initial-strain-stiffness); unload-all 427 -> 312 ->
+  // 331 and 212 -> 176 -> 201; the multilinear cube 126 -> 136 -> 143 and 55 -> 59 -> 61; the
+  // others within two iterations.
+  if (scheme_->iterates_initial_strain()) anderson_.set_depth(8);
   // solver.max_iterations: auto. An iteration of a fixed-matrix scheme is a back-substitution
   // and a stress evaluation, tens of times cheaper than newton's factorization (31 + 19 ms
   // against 0.9 s at 81k unknowns, docs/schemes.md), and it converges linearly: while yield
