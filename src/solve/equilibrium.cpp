@@ -676,7 +676,7 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
     restart_next_ = false;
     if (restart) anderson_.reset();
     previous_residual = residual;
-    // The initial-strain schemes' displacement follows their λ0 only from the first solve
+    // The initial-strain schemes' displacement follows their Δε^0 only from the first solve
     // with the matrix on: the start of a step (u(t), the new load not yet applied) and the
     // iterate before a new matrix do not. Their plain update is the history's first entry.
     // After a restart the history holds nothing: the step is the plain one.
@@ -787,12 +787,13 @@ double Equilibrium::strain_state_change(const State& trial) {
 }
 
 /// Anderson's mixing of this iteration: the plain correction delta_ (and, for the
-/// initial-strain schemes, the points' plain update of λ0) replaced by the mixed one.
-/// The initial-strain schemes iterate on λ0, and the displacement follows it: after one solve
-/// with the scheme's fixed matrix, u + δ is the displacement of the plain update of λ0 exactly
-/// (the stress law is linear in Δε for fixed λ0), so the mixed displacement is the same
-/// combination of those displacements as the mixed λ0 is of the plain updates. The least
-/// squares then weighs only λ0 (by the points' volumes); the displacements weigh 0.
+/// initial-strain schemes, the points' plain update of Δε^0) replaced by the mixed one.
+/// The initial-strain schemes iterate on Δε^0, and the displacement follows it: after one
+/// solve with the scheme's fixed matrix, u + δ is the displacement of the plain update of Δε^0
+/// exactly (the stress law is linear in Δε for fixed Δε^0), so the mixed displacement is the
+/// same combination of those displacements as the mixed Δε^0 is of the plain updates. The
+/// least squares then weighs only Δε^0 (by the points' volumes and moduli) and the contact's
+/// c; the displacements weigh 0.
 void Equilibrium::mix(State& trial) {
   const auto& dofs = m_.dofs();
   const bool strains = scheme_->iterates_initial_strain();

@@ -136,7 +136,7 @@ class Equilibrium {
   std::vector<double> u_before_;
   Anderson anderson_{5};
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
-  // schemes' λ0 the current iterate was evaluated with and the points' plain update of it
+  // schemes' Δε^0 the current iterate was evaluated with and the points' plain update of it
   std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_, point_weights_;
   // with contact, the nodes' augmented state c (ContactStep::augmented_offsets) likewise
   std::vector<double> contact_in_, contact_out_, contact_weights_, contact_share_;
