@@ -756,7 +756,8 @@ void Equilibrium::line_search(const State& c, State& trial) {
 /// The initial-strain schemes: the points' plain update of Δε^0 and the contact nodes' c
 /// (into lambda0_out_, contact_out_) against the state the iterate was evaluated with
 /// (lambda0_in_, contact_in_), with the rows' weights of Anderson's least squares
-/// (point_weights_, contact_share_); returns the weighted square of the change, over all ranks.
+/// (point_weights_, contact_weights_, the latter shared out over the ranks); returns the weighted
+/// square of the change, over all ranks.
 double Equilibrium::strain_state_change(const State& trial) {
   points_.initial_strains(lambda0_out_);
   points_.plastic_point_weights(point_weights_);
@@ -766,16 +767,15 @@ double Equilibrium::strain_state_change(const State& trial) {
     sum += point_weights_[j] * d * d;
   }
   contact_out_.clear();
-  contact_share_.clear();
   if (contact_.active()) {
     contact_.augmented_offsets(trial, contact_out_, &contact_weights_);
     // With the whole mesh every rank holds every contact node: its rows, summed over the
     // ranks, count once. (A distributed mesh's contact weights are its owners' alone.)
     const double share = only_ ? 1.0 / par::size() : 1.0;
     for (std::size_t j = 0; j < contact_out_.size(); ++j) {
-      contact_share_.push_back(share * contact_weights_[j]);
+      contact_weights_[j] *= share;
       const double d = contact_out_[j] - contact_in_[j];
-      sum += contact_share_.back() * d * d;
+      sum += contact_weights_[j] * d * d;
     }
   }
   // The points are each rank's own.
@@ -811,7 +811,7 @@ void Equilibrium::mix(State& trial) {
   // A distributed mesh: a ghost's rows are its owner's (weight 0 here).
   const bool distributed = layout_.kind() == NodalLayout::Kind::distributed;
   if (distributed) std::fill(mix_weights_.begin() + own_free_, mix_weights_.begin() + n_u, 0.0);
-  for (std::size_t j = 0; j < n_c; ++j) mix_weights_[n_u + n_l + j] = contact_share_[j];
+  for (std::size_t j = 0; j < n_c; ++j) mix_weights_[n_u + n_l + j] = contact_weights_[j];
   mix_x_.resize(n);
   mix_f_.resize(n);
   for (int i = 0; i < dofs.n_dofs(); ++i)

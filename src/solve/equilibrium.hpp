@@ -139,7 +139,7 @@ class Equilibrium {
   // schemes' Δε^0 the current iterate was evaluated with and the points' plain update of it
   std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_, point_weights_;
   // with contact, the nodes' augmented state c (ContactStep::augmented_offsets) likewise
-  std::vector<double> contact_in_, contact_out_, contact_weights_, contact_share_;
+  std::vector<double> contact_in_, contact_out_, contact_weights_;
   // The initial-strain schemes: the weighted square of the change of their state that the last
   // iterate kept asked for (strain_state_change), what the safeguard compares the next with.
   double last_change_ = 0;

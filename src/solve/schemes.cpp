@@ -385,9 +385,10 @@ class InitialStrain final : public FixedMatrixScheme {
     // period two, its residual stuck at 1.4e-2). Along the direction of its stress with the
     // current Δε^0, σ̃ = σ̃_tr + 3G|λ|, the factor is below one. (Such a point leaves the held
     // set before the step converges: the answer is the radial return's all the same.)
+    const Voigt d_plastic = Tangent{}.times(k1, plastic);
     if (it.held > 0 && a.q0 + three_g * a.xt < ps.curve.yield_now)
-      take_direction(a, flow_direction(sigma0 + a.dx - Tangent{}.times(k1, plastic)), ps, sigma0);
-    const double lambda_k = a.z.dot(Tangent{}.times(k1, plastic)) / three_g;
+      take_direction(a, flow_direction(sigma0 + a.dx - d_plastic), ps, sigma0);
+    const double lambda_k = a.z.dot(d_plastic) / three_g;
     const double ds = three_g * (a.xt - lambda_k);  // Δσ̃_k = Zᵀ(σ_k − σ(t))
     const double s = a.q0 + ds, y = ps.curve.yield_now;
     Hardening::Point fk;
