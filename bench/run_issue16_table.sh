@@ -32,7 +32,7 @@ if [ "$#" -gt 0 ]; then cases=("$@"); else
   cases=()
   for c in unload-force unload-pressure unload-displacement unload-temperature \
            unload-temperature-wall unload-contact unload-all multilinear-cube heated-bar \
-           epp-cylinder epp-cylinder-tet indentation-unload; do
+           epp-cylinder epp-cylinder-tet indentation-unload indentation-half; do
     [ -f "$cases_dir/$c/case.yaml" ] && cases+=("$c")
   done
   for d in "$cases_dir"/*/; do

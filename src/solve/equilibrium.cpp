@@ -105,11 +105,10 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   max_iterations_ = m.spec().solver.max_iterations > 0 ? m.spec().solver.max_iterations
                     : scheme_->matrix_policy() == MatrixPolicy::per_iteration ? 50
                                                                               : 200;
-  // solver.line_search: variable-stiffness. newton's corrections never left the band where δ
-  // is taken whole on the issue-16 cases (the search would only cost a point pass per
-  // iteration with contact); the fixed-matrix schemes have Anderson's mixing instead.
-  line_search_ =
-      plastic_ && m.spec().solver.line_search && scheme_->kind() == SchemeKind::variable_stiffness;
+  // solver.line_search: the schemes whose matrix follows the iterate, variable-stiffness and
+  // newton; the fixed-matrix schemes have Anderson's mixing instead.
+  line_search_ = plastic_ && m.spec().solver.line_search &&
+                 scheme_->matrix_policy() == MatrixPolicy::per_iteration;
   if (plastic_) model_size_ = model_size(m.mesh(), layout_);
   updated_ = m.spec().solver.updated_geometry;
   x_ = m.mesh().x;
@@ -713,13 +712,18 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
 /// than the curve's tangent, so its corrections undershoot on a hardening curve), and the root
 /// of the secant through g(0) and g(1) lengthens it, to at most 3δ; where g(1) reversed beyond
 /// half of g(0) it overshot, and the root shortens it, to at least δ/5. Otherwise δ is taken
-/// whole and the evaluation of u + δ is the next iterate's (without contact, whose update
-/// comes between the points and the residual). One secant step, not a search to a tolerance:
-/// each further step would cost another point pass for less.
-/// Measured (issue 16, finding 5; docs/schemes.md): variable-stiffness needs 20-35 % fewer
-/// iterations and factorizations on the perfectly plastic cylinders (217 -> 142 at 81k
+/// whole and the evaluation of u + δ is the next iterate's (with contact, once the contact has
+/// been updated at it): the search then costs nothing. One secant step, not a search to a
+/// tolerance: each further step would cost another point pass for less.
+/// Measured (issue 16, findings 4 and 5; docs/schemes.md): variable-stiffness needs 20-35 %
+/// fewer iterations and factorizations on the perfectly plastic cylinders (217 -> 142 at 81k
 /// unknowns) and the plate-hole example, half as many on the force and pressure unloading
-/// cases; the answers move within the tolerance.
+/// cases; the answers move within the tolerance. newton's ratio stays in the band on the
+/// issue-16 cases (its iterates are those without the search, bit for bit), and leaves it where
+/// its plastic iterates overshoot: the ball indentation on half its steps, which lifts the ball
+/// out of the dent in one step (t = 1 -> 1.25), reversed the work (g(1)/g(0) = -1.32, s = 0.43)
+/// and took 7 iterations; taken whole, the springback overshot, the node under the centre went
+/// into the ball and out again seven times, and the step was cut back twice.
 void Equilibrium::line_search(const State& c, State& trial) {
   const auto& dofs = m_.dofs();
   const auto move = [&](double s) {
@@ -742,7 +746,15 @@ void Equilibrium::line_search(const State& c, State& trial) {
   else if (ratio < -0.5)
     s = std::max(0.2, 1 / (1 - ratio));
   if (layout_.shared()) par::broadcast(std::span<double>(&s, 1));
-  if (s == 1 && !contact_.active()) {
+  if (s == 1) {
+    // δ whole: this is the next iterate's evaluation, once the contact has been updated at it
+    // (what evaluate(c, trial, true) does after the points).
+    if (contact_.active()) {
+      const auto t0 = Clock::now();
+      contact_.update(c, trial);
+      timings_.contact += seconds_since(t0);
+      ev.r2 = residual_vector(trial, &ev.r_loads2);
+    }
     searched_ = std::move(ev);
     return;
   }

@@ -295,8 +295,9 @@ struct SolverSpec {
   enum class Acceleration { automatic, none, anderson };
   Acceleration acceleration = Acceleration::automatic;
   /// `line_search: auto | none`: `auto` (the default) scales each correction of
-  /// variable-stiffness after the first of a step by one secant step on the residual's work
-  /// along it (Equilibrium::line_search); `none` takes the corrections whole, as the report.
+  /// variable-stiffness and newton after the first of a step by one secant step on the
+  /// residual's work along it (Equilibrium::line_search); `none` takes the corrections whole,
+  /// as the report.
   bool line_search = true;
   /// `geometry: small | updated`. `small` (the default): every step on the undeformed mesh.
   /// `updated`: each step on the configuration at its start, X + u(t), the report's ^(t)Ω,
