@@ -182,8 +182,8 @@ def render(res: dict) -> str:
         + f"10-node tetrahedra (ccx C3D10). E = {E:.3g} Pa, ν = {NU}, von Mises, σ_y = {SY:.3g} Pa. "
         f"Internal pressure ramped to {p['load_factor']} p_L = {p['p_end']:.6g} Pa (p_L = 2σ_y/√3·ln(b/a) = "
         f"{p['p_limit']:.6g} Pa) in {p['steps']} equal increments. hencky: tolerance {p['tolerance']:g}, "
-        f"max_iterations {p['max_iterations']}, cutback {p['cutback']}, relaxation ω = {p['relaxation']:g} "
-        f"(initial-strain) and {p.get('relaxation_stiffness', p['relaxation']):g} (initial-strain-stiffness), "
+        f"max_iterations {p['max_iterations']}, cutback {p['cutback']}, relaxation ω = {p['relaxation']} "
+        f"(initial-strain) and {p.get('relaxation_stiffness', p['relaxation'])} (initial-strain-stiffness), "
         f"`linear: {p['linear']}`; fields written at the last step only; time limit {p['timeout'] or 0:g} s "
         f"per run (ccx {p['ccx_timeout'] or 0:g} s; 0: none). ccx: *STATIC, DIRECT (fixed increments), "
         "its default convergence controls; .frd at the last increment only.\n")
@@ -217,6 +217,16 @@ def render(res: dict) -> str:
 
 
 # ----------------------------------------------------------------------------------------------
+def number_or_auto(text: str):
+    """A float, or the word auto (hencky's default of the key)."""
+    return "auto" if text == "auto" else float(text)
+
+
+def int_or_auto(text: str):
+    """A whole number, or the word auto (hencky's default of the key)."""
+    return "auto" if text == "auto" else int(text)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--hencky", type=Path, default=None,
@@ -230,10 +240,10 @@ def main():
                     help="linear hardening modulus H (Pa) of the variant for the strain-form schemes (default E/100; 0: no variant)")
     ap.add_argument("--hardening-schemes", default="newton,initial-strain,initial-strain-stiffness",
                     help="hencky schemes run on the hardening variant (default newton,initial-strain,initial-strain-stiffness; '' for none)")
-    ap.add_argument("--relaxation", type=float, default=0.01,
-                    help="solver.relaxation ω of initial-strain (default 0.01 ≈ 1/(1 + E/H) for H = E/100: elastic matrix everywhere)")
-    ap.add_argument("--relaxation-stiffness", type=float, default=0.015,
-                    help="solver.relaxation ω of initial-strain-stiffness (default 0.015; see the module notes)")
+    ap.add_argument("--relaxation", type=number_or_auto, default=0.01,
+                    help="solver.relaxation ω of initial-strain (default 0.01 ≈ 1/(1 + E/H) for H = E/100: elastic matrix everywhere; 'auto': hencky's default)")
+    ap.add_argument("--relaxation-stiffness", type=number_or_auto, default=0.015,
+                    help="solver.relaxation ω of initial-strain-stiffness (default 0.015; see the module notes; 'auto': hencky's default)")
     ap.add_argument("--layers", type=int, default=2,
                     help="the slice is this many elements thick at every size (default 2); 0: unstructured slice of --thickness")
     ap.add_argument("--thickness", type=float, default=0.02,
@@ -241,8 +251,8 @@ def main():
     ap.add_argument("--load-factor", type=float, default=0.9, help="end of the ramp as a fraction of p_L (default 0.9)")
     ap.add_argument("--steps", type=int, default=20, help="load increments (default 20)")
     ap.add_argument("--tolerance", type=float, default=1e-6, help="hencky solver.tolerance (default 1e-6, the case default)")
-    ap.add_argument("--max-iterations", type=int, default=1000,
-                    help="hencky solver.max_iterations per step (default 1000: the fixed-matrix schemes need many near the limit load)")
+    ap.add_argument("--max-iterations", type=int_or_auto, default=1000,
+                    help="hencky solver.max_iterations per step (default 1000: the fixed-matrix schemes need many near the limit load; 'auto': hencky's default)")
     ap.add_argument("--cutback", type=int, default=4, help="hencky solver.cutback (default 4, the case default)")
     ap.add_argument("--linear", choices=("auto", "direct", "iterative", "petsc"), default="auto",
                     help="hencky solver.linear (default auto, hencky's default)")

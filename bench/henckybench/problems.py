@@ -326,9 +326,9 @@ def plastic_case(msh: Path, scheme: str, variant: dict, args) -> str:
               f"tolerance: {args.tolerance!r}", f"max_iterations: {args.max_iterations}",
               f"cutback: {args.cutback}", f"linear: {args.linear}"]
     if scheme == "initial-strain":
-        solver.append(f"relaxation: {args.relaxation!r}")
+        solver.append(f"relaxation: {args.relaxation}")
     elif scheme == "initial-strain-stiffness":
-        solver.append(f"relaxation: {args.relaxation_stiffness!r}")
+        solver.append(f"relaxation: {args.relaxation_stiffness}")
     solver.append(f"acceleration: {accel or 'none'}")
     if updated:
         solver.append("geometry: updated")

@@ -1,8 +1,16 @@
 #!/usr/bin/env bash
 # End-to-end tests of the command line: exit statuses, messages and outputs of the contract.
-# Usage: run_cli_tests.sh HENCKY_BINARY SOURCE_DIR
+# Usage: run_cli_tests.sh HENCKY_BINARY SOURCE_DIR [only|except CASE...]
+#   CASE: names of tests/cli/cases/*.sh without .sh; `only` runs those, `except` all others
+#   (ctest runs the suite as two such halves side by side). 05_helpers is always read.
+#   HENCKY_CLI_SKIP (environment): case names left out as well.
 set -u
 bin="$1"; src="$2"
+part_mode="${3:-}"; part_cases=" ${*:4} "
+case "$part_mode" in
+  ""|only|except) ;;
+  *) echo "run_cli_tests.sh: the third argument is 'only' or 'except', not '$part_mode'" >&2; exit 2 ;;
+esac
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 pass=0; fail=0
 ok()   { pass=$((pass+1)); echo "ok   $1"; }
@@ -28,6 +36,10 @@ expect() { expect_cmd "$1" "$2" "$3" -- "$bin" "${@:5}"; }
 for f in "$src"/tests/cli/cases/*.sh; do
   [ -e "$f" ] || continue
   case_name="$(basename "$f" .sh)"
+  if [ "$case_name" != 05_helpers ]; then
+    if [ "$part_mode" = only ] && [[ "$part_cases" != *" $case_name "* ]]; then continue; fi
+    if [ "$part_mode" = except ] && [[ "$part_cases" == *" $case_name "* ]]; then continue; fi
+  fi
   if [[ " ${HENCKY_CLI_SKIP:-} " == *" $case_name "* ]]; then echo "skip $case_name.sh"; continue; fi
   case_t0=$SECONDS
   # shellcheck disable=SC1090

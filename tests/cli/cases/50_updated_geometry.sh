@@ -89,8 +89,8 @@ ex_check "updated at PL^2/EI = 5e-3: the tip's shortening, a second-order effect
   "$work/updated/small-load-updated.csv" \
   "$el_import and (el := __import__('elastica')) and close(-at(1)['tip.displacement.x'], el.elastica(5e-3)[0], 1e-3)"
 
-# --- Plasticity, contact and the PETSc back end on two ranks (mpi, mpi_expect and same are
-# 40_parallel.sh's): the plastic indentation of tests/cli/inputs/issue16 under `updated`, whose
+# --- Plasticity, contact and the PETSc back end on two ranks (mpi, mpi_expect and same: see
+# 05_helpers.sh): the plastic indentation of tests/cli/inputs/issue16 under `updated`, whose
 # every step must match the serial direct answer to 1e-8.
 d="$work/updated/indentation"
 rm -rf "$d"

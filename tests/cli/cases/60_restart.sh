@@ -1,5 +1,5 @@
-# Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh and
-# 40_parallel.sh). Issue 19: checkpoints, restart and interruption.
+# Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh,
+# the mpirun ones among them). Issue 19: checkpoints, restart and interruption.
 #  - A run restarted from its checkpoint at step k writes the uninterrupted run's history.csv and
 #    fields files byte for byte: elastic steps and plastic ones under every scheme (the strip
 #    with a hole), contact (the plastic indentation), heat conduction; on MPI ranks, to the
