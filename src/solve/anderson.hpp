@@ -30,14 +30,6 @@ class Anderson {
  public:
   explicit Anderson(int depth) : depth_(depth) {}
 
-  /// Keeps up to `depth` columns from now on; the history is forgotten.
-  void set_depth(int depth) {
-    depth_ = depth;
-    dx_.resize(0, 0);
-    df_.resize(0, 0);
-    reset();
-  }
-
   /// Forgets the history: the next step is the plain one (after the map G changed: a new
   /// matrix, a new step, a new contact set, or a step that made things worse).
   void reset() {

@@ -55,7 +55,15 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
       contact_(m),
       layout_(m.layout()),
       own_dofs_(layout_.owned_entries(m.dofs().eq.size(), 3, m.mesh().n_nodes())),
-      own_free_(layout_.owned_free(m.dofs().eq, 3)) {
+      own_free_(layout_.owned_free(m.dofs().eq, 3)),
+      // The history's depth: the initial strains' state (Δε^0 along the trial's Z, the held
+      // plastic set, with contact the nodes' c) is further from linear than the initial
+      // stresses' displacements, and a longer history fits more of it. Measured with depth
+      // 5 -> 8 -> 10 on the issue-16 table: the indentation 1742 iterations and 4 cut-backs ->
+      // 833 and 2 -> 831 and 2 (initial-strain), 587 -> 499 -> 527 (initial-strain-stiffness);
+      // unload-all 427 -> 312 -> 331 and 212 -> 176 -> 201; the multilinear cube 126 -> 136 ->
+      // 143 and 55 -> 59 -> 61; the others within two iterations.
+      anderson_(scheme_->iterates_initial_strain() ? 8 : 5) {
   // A rank stores the points of the cells it holds and works on its own cells: these must
   // agree (make_run_solver makes the model hold the partition's cells).
   for (int e = 0; e < m.mesh().cells.size(); ++e)
@@ -85,14 +93,6 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // initial-strain-stiffness, took 677 iterations and failed on reloading with the elastic
   // start, 0.99 per iteration from the elastic iterate; 37 iterations without).
   elastic_start_ = !given_omega;
-  // The history's depth: the initial strains' state (Δε^0 along the trial's Z, the held
-  // plastic set, with contact the nodes' c) is further from linear than the initial stresses'
-  // displacements, and a longer history fits more of it. Measured with depth 5 -> 8 -> 10 on
-  // the issue-16 table: the indentation 1742 iterations and 4 cut-backs -> 833 and 2 -> 831 and
-  // 2 (initial-strain), 587 -> 499 -> 527 (initial-strain-stiffness); unload-all 427 -> 312 ->
-  // 331 and 212 -> 176 -> 201; the multilinear cube 126 -> 136 -> 143 and 55 -> 59 -> 61; the
-  // others within two iterations.
-  if (scheme_->iterates_initial_strain()) anderson_.set_depth(8);
   // solver.max_iterations: auto. An iteration of a fixed-matrix scheme is a back-substitution
   // and a stress evaluation, tens of times cheaper than newton's factorization (31 + 19 ms
   // against 0.9 s at 81k unknowns, docs/schemes.md), and it converges linearly: while yield
@@ -453,7 +453,7 @@ void Equilibrium::require_strain_form(const Evaluation& ev) const {
 Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool update_contact,
                                               bool elastic) {
   Evaluation ev;
-  auto t0 = Clock::now();
+  const auto t0 = Clock::now();
   ev.points = points_.update(c, trial, x_, elastic);
   timings_.material += seconds_since(t0);
   if (const Model::CellFacts e = m_.cell_facts(ev.points.inverted_cell); e.tag >= 0)
@@ -463,13 +463,17 @@ Equilibrium::Evaluation Equilibrium::evaluate(const State& c, State& trial, bool
         "follow the deformation, a mesh this distorted will not",
         e.tag, c.time, trial.time));
   negative_secant_cell_ = ev.points.negative_secant_cell;
-  if (contact_.active() && update_contact) {
-    t0 = Clock::now();
-    contact_.update(c, trial);
-    timings_.contact += seconds_since(t0);
-  }
+  if (update_contact) update_contact_states(c, trial);
   ev.r2 = residual_vector(trial, &ev.r_loads2);
   return ev;
+}
+
+/// The contact states updated at the iterate (after its points, before its residual).
+void Equilibrium::update_contact_states(const State& c, State& trial) {
+  if (!contact_.active()) return;
+  const auto t0 = Clock::now();
+  contact_.update(c, trial);
+  timings_.contact += seconds_since(t0);
 }
 
 /// newton's predictor (solver.predictor: extrapolate). The step starts from the converged
@@ -748,11 +752,9 @@ void Equilibrium::line_search(const State& c, State& trial) {
   if (layout_.shared()) par::broadcast(std::span<double>(&s, 1));
   if (s == 1) {
     // δ whole: this is the next iterate's evaluation, once the contact has been updated at it
-    // (what evaluate(c, trial, true) does after the points).
+    // (what evaluate(c, trial, true) does after the points; its residual then changes).
     if (contact_.active()) {
-      const auto t0 = Clock::now();
-      contact_.update(c, trial);
-      timings_.contact += seconds_since(t0);
+      update_contact_states(c, trial);
       ev.r2 = residual_vector(trial, &ev.r_loads2);
     }
     searched_ = std::move(ev);

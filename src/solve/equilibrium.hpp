@@ -72,6 +72,7 @@ class Equilibrium {
   double step_force(const State& c, const State& trial, const Evaluation& ev) const;
   double history_force(const State& c) const;
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
+  void update_contact_states(const State& c, State& trial);
   void require_strain_form(const Evaluation& ev) const;
   Evaluation predict(const State& c, State& trial, const Evaluation& at_start, double scale,
                      bool& extrapolated);
@@ -134,7 +135,7 @@ class Equilibrium {
   bool line_search_ = false;
   std::optional<Evaluation> searched_;
   std::vector<double> u_before_;
-  Anderson anderson_{5};
+  Anderson anderson_;  ///< 8 columns for the initial strains, 5 otherwise (constructor)
   // mix(): the iterate, its plain correction and the rows' weights; the initial-strain
   // schemes' Δε^0 the current iterate was evaluated with and the points' plain update of it
   std::vector<double> mix_x_, mix_f_, mix_weights_, lambda0_in_, lambda0_out_, point_weights_;
