@@ -217,14 +217,12 @@ def render(res: dict) -> str:
 
 
 # ----------------------------------------------------------------------------------------------
-def number_or_auto(text: str):
-    """A float, or the word auto (hencky's default of the key)."""
-    return "auto" if text == "auto" else float(text)
-
-
-def int_or_auto(text: str):
-    """A whole number, or the word auto (hencky's default of the key)."""
-    return "auto" if text == "auto" else int(text)
+def or_auto(convert):
+    """An argparse type: `convert(text)`, or the word auto (hencky's default of the key)."""
+    def parse(text: str):
+        return "auto" if text == "auto" else convert(text)
+    parse.__name__ = f"{convert.__name__} or auto"  # argparse's "invalid float or auto value"
+    return parse
 
 
 def main():
@@ -240,9 +238,9 @@ def main():
                     help="linear hardening modulus H (Pa) of the variant for the strain-form schemes (default E/100; 0: no variant)")
     ap.add_argument("--hardening-schemes", default="newton,initial-strain,initial-strain-stiffness",
                     help="hencky schemes run on the hardening variant (default newton,initial-strain,initial-strain-stiffness; '' for none)")
-    ap.add_argument("--relaxation", type=number_or_auto, default=0.01,
+    ap.add_argument("--relaxation", type=or_auto(float), default=0.01,
                     help="solver.relaxation ω of initial-strain (default 0.01 ≈ 1/(1 + E/H) for H = E/100: elastic matrix everywhere; 'auto': hencky's default)")
-    ap.add_argument("--relaxation-stiffness", type=number_or_auto, default=0.015,
+    ap.add_argument("--relaxation-stiffness", type=or_auto(float), default=0.015,
                     help="solver.relaxation ω of initial-strain-stiffness (default 0.015; see the module notes; 'auto': hencky's default)")
     ap.add_argument("--layers", type=int, default=2,
                     help="the slice is this many elements thick at every size (default 2); 0: unstructured slice of --thickness")
@@ -251,7 +249,7 @@ def main():
     ap.add_argument("--load-factor", type=float, default=0.9, help="end of the ramp as a fraction of p_L (default 0.9)")
     ap.add_argument("--steps", type=int, default=20, help="load increments (default 20)")
     ap.add_argument("--tolerance", type=float, default=1e-6, help="hencky solver.tolerance (default 1e-6, the case default)")
-    ap.add_argument("--max-iterations", type=int_or_auto, default=1000,
+    ap.add_argument("--max-iterations", type=or_auto(int), default=1000,
                     help="hencky solver.max_iterations per step (default 1000: the fixed-matrix schemes need many near the limit load; 'auto': hencky's default)")
     ap.add_argument("--cutback", type=int, default=4, help="hencky solver.cutback (default 4, the case default)")
     ap.add_argument("--linear", choices=("auto", "direct", "iterative", "petsc"), default="auto",

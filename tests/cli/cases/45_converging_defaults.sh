@@ -136,9 +136,9 @@ cv_run indentation-unload initial-strain-stiffness
 if same_dent "$h_newton" "$h"; then ok "indentation-unload, initial-strain-stiffness: newton's dent to 1e-5"; else bad "indentation-unload, initial-strain-stiffness: the dent is not newton's"; fi
 # initial-strain, its slowest scheme, may be cut back in the loading (twice on these steps, the
 # steps to t = 1 and to 0.875: a node at the edge of the contact changes state seven times while
-# the plastic strains are still far from settled), never while the ball is lifted; on the steps it then took, its dent is newton's on the same
-# steps (a cut-back changes the discrete problem: newton's own dent moves by 1.2e-2 between the
-# 6 and the 8 steps).
+# the plastic strains are still far from settled), never while the ball is lifted; on the steps
+# it then took, its dent is newton's on the same steps (a cut-back changes the discrete problem:
+# newton's own dent moves by 1.2e-2 between the 6 and the 8 steps).
 cv_run_cut indentation-unload initial-strain
 if grep -E "^step to t = ([0-9.]+) .*cutting back" "$d/case.out/hencky.log" |
   awk '{ if ($5 + 0 > 1) bad = 1 } END { exit bad }'; then
@@ -162,7 +162,7 @@ fi
 # (t = 1 -> 1.25). newton's plastic iterates of the springback overshot (the relative residual
 # rose from 0.15 to 0.25 with no node in contact), the node under the centre went into the ball
 # and out again seven times, and the step was cut back twice. newton's corrections are now
-# scaled by the line search of variable-stiffness where their work reverses (the first by
+# scaled by the line search (solver.line_search: auto) where their work reverses (the first by
 # 0.43): 7 iterations, no cut-back. Its dent is checked against initial-stress-stiffness on the
 # same steps (a fixed matrix, no search: another iteration of the same step equations; measured
 # 7e-7 apart).
