@@ -8,8 +8,10 @@
 
 namespace hencky {
 
-ContactStep::ContactStep(const Model& m)
-    : m_(&m), distributed_(m.layout().kind() == NodalLayout::Kind::distributed) {
+ContactStep::ContactStep(const Model& m, int max_flips)
+    : max_flips_(max_flips),
+      m_(&m),
+      distributed_(m.layout().kind() == NodalLayout::Kind::distributed) {
   const auto& bodies = m.contacts();
   if (distributed_) {
     const Partition& part = m.partition();
@@ -164,7 +166,7 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
       const bool mine = counts(b, i);
       if (branch == ContactBranch::released && c.contact[b][i].contact && mine) ++pr.released;
       if (s.contact != was_contact || s.separation != was_separation) pr.set_changed = true;
-      if (s.contact != was_contact && ++flips_[b][i] > max_flips && oscillates.empty())
+      if (s.contact != was_contact && ++flips_[b][i] > max_flips_ && oscillates.empty())
         oscillates = fmt::format(
             "contact '{}': node {} changed between contact and no contact {} times in this "
             "step (the contact set oscillates)",

@@ -26,7 +26,9 @@ struct ContactProgress {
 
 class ContactStep {
  public:
-  explicit ContactStep(const Model& m);
+  /// `max_flips`: the changes between contact and no contact a node may make in a step
+  /// before update() calls the set oscillating.
+  explicit ContactStep(const Model& m, int max_flips = default_max_flips);
   bool active() const { return !m_->contacts().empty(); }
 
   /// The states at t = 0: nodes that touch a surface (to round-off, or within the allowed
@@ -72,9 +74,11 @@ class ContactStep {
     return assembled_any_ ? assembled_ : std::vector<std::vector<ContactNode>>();
   }
 
-  static constexpr int max_flips = 6;
+  static constexpr int default_max_flips = 6;
+  int max_flips() const { return max_flips_; }
 
  private:
+  int max_flips_;
   Vec3 position(int body, int i, const std::vector<double>& u) const;
 
   /// Point i of surface b counts here: on a distributed mesh each point is counted, and adds

@@ -152,12 +152,15 @@ class Equilibrium {
   std::vector<double> plain_u_;
   std::vector<std::vector<ContactNode>> plain_contact_;
   // The initial-strain schemes' held plastic set (hold, move_holds): the iteration of the
-  // step from which it is held, whether it may be (this step), is, and its moves so far.
-  static constexpr int hold_from = 20, max_hold_moves = 10;
+  // step from which it is held, the iterates in a row with the same number of broken holds
+  // after which these move, whether it may be held (this step), is, and its moves so far; the
+  // number of broken holds of the last iterate (−1: none since the last hold or move) and in
+  // how many iterates in a row it was that number.
+  static constexpr int hold_from = 20, max_hold_moves = 10, settled_breaks = 3;
   bool hold_set_ = false, holding_ = false;
-  int hold_moves_ = 0;
+  int hold_moves_ = 0, last_broken_ = -1, same_broken_ = 0;
   void hold(int plastic_points);
-  void move_holds(int broken);
+  void move_holds(int broken, bool converged);
 };
 
 }  // namespace hencky
