@@ -225,6 +225,29 @@ ContactProgress ContactStep::update(const State& c, State& trial) {
   return pr;
 }
 
+int ContactStep::release_pulling(const State& c, State& trial, double limit) {
+  const auto& bodies = m_->contacts();
+  int released = 0;
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (std::size_t i = 0; i < bodies[b].points.size(); ++i) {
+      ContactNode& s = trial.contact[b][i];
+      if (!s.contact) continue;
+      const Vec3 r = position(static_cast<int>(b), static_cast<int>(i), trial.u);
+      if (contact_force(s, r).dot(s.normal) >= -limit) continue;
+      s.contact = false;
+      s.separation = c.contact[b][i].contact;
+      s.force = Vec3::Zero();
+      ++flips_[b][i];
+      released += counts(b, i);
+    }
+  released = static_cast<int>(m_->layout().total(released));
+  if (released > 0) {
+    progress_.set_changed = true;
+    progress_.in_contact -= released;
+  }
+  return released;
+}
+
 void ContactStep::augmented_offsets(const State& s, std::vector<double>& c,
                                     std::vector<double>* weight) const {
   c.clear();

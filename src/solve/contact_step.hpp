@@ -54,6 +54,11 @@ class ContactStep {
   /// when the contact set oscillates (a node changed state more than max_flips times in the
   /// step): the step is then cut back.
   ContactProgress update(const State& c, State& trial);
+  /// At a converged iterate: releases every node in contact on which the surface pulls with
+  /// more than `limit` (the force of contact_force at the iterate, −F·n > limit), as the
+  /// update's branch `released` does for a node outside the surface; returns their number over
+  /// the whole model (collective on a distributed mesh).
+  int release_pulling(const State& c, State& trial, double limit);
   /// The augmented state of every node as one number, c = F·n + κ r*·n: the force the solve
   /// puts on a node in contact at r is (c − κ r·n) n, linear in r for a fixed c (0 for the
   /// nodes out of contact). `weight` (when given): 1/κ at the nodes in contact, else 0.

@@ -80,6 +80,7 @@ class Equilibrium {
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
+  bool released_pulling(const State& c, State& trial, Evaluation& ev, double scale);
   void advance(const State& c, State& trial, const Evaluation& ev, int iteration,
                double residual, double& previous_residual);
   void line_search(const State& c, State& trial);

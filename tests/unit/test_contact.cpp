@@ -296,6 +296,30 @@ TEST(ContactStep, AnOscillatingContactSetFailsTheStepInsteadOfLooping) {
   EXPECT_EQ(updates, cs.contact->max_flips());  // the (max_flips + 1)-th change throws
 }
 
+TEST(ContactStep, AConvergedNodeThatTheSurfacePullsOnIsReleased) {
+  // The face of the cube on the plane, every node in contact: one pulled with 1e3 N, one with
+  // 1e-3 N (under the limit of 1 N: round-off of the step's tolerance), the others pushed.
+  CubeContactStep cs(pressed_block_case("0", "1"));
+  auto& nodes = cs.trial.contact[0];
+  ASSERT_EQ(nodes.size(), 4u);
+  for (ContactNode& n : nodes) {
+    ASSERT_TRUE(n.contact);
+    n.force = 1e3 * n.normal;
+  }
+  nodes[0].force = -1e3 * nodes[0].normal;
+  nodes[1].force = -1e-3 * nodes[1].normal;
+  EXPECT_EQ(cs.contact->release_pulling(cs.c, cs.trial, 1.0), 1);
+  EXPECT_FALSE(nodes[0].contact);
+  EXPECT_TRUE(nodes[0].separation);  // in contact at t: it separates, (3.5)
+  EXPECT_TRUE(nodes[0].force.isZero());
+  for (int i : {1, 2, 3}) EXPECT_TRUE(nodes[i].contact) << "node " << i;
+  EXPECT_TRUE(cs.contact->progress().set_changed);  // the step cannot end on this iterate
+  EXPECT_EQ(cs.contact->progress().in_contact, 3);
+  // Nothing pulls any more: nothing to release, and the forces pushing stay.
+  EXPECT_EQ(cs.contact->release_pulling(cs.c, cs.trial, 1.0), 0);
+  EXPECT_NEAR(nodes[2].force.dot(nodes[2].normal), 1e3, 1e-9);
+}
+
 TEST(ContactStep, AutoKappaIsRaisedWhereAGapDoesNotHalve) {
   // Two updates at the same iterate, 1e-3 inside the plane: the gap of every node stays above
   // the allowed one and does not shrink, so auto raises each κ tenfold (a given κ stays).
