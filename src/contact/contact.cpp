@@ -34,6 +34,12 @@ Mat3 contact_matrix(const ContactNode& s) {
   return s.kappa * s.normal * s.normal.transpose();
 }
 
+void release_contact_node(ContactNode& s, const ContactNode& committed) {
+  s.contact = false;
+  s.separation = committed.contact;
+  s.force = Vec3::Zero();
+}
+
 ContactBranch update_contact_node(ContactNode& s, const ContactNode& committed, const Vec3& r_t,
                                   const Vec3& r_k, const SurfaceMotion& where) {
   const RigidSurface& surface = *where.surface;
@@ -55,11 +61,7 @@ ContactBranch update_contact_node(ContactNode& s, const ContactNode& committed, 
       return ContactBranch::stays_inside;
     }
     if (s.force.dot(s.normal) < 0) {
-      s.contact = false;
-      s.separation = committed.contact;
-      // A node out of contact carries no reaction ((3.5) for a separating node; the report
-      // leaves F of a node released in the step it closed in unstated: zero as well).
-      s.force = Vec3::Zero();
+      release_contact_node(s, committed);
       return ContactBranch::released;
     }
     hold_at(surface.nearest(p_k));

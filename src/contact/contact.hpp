@@ -66,6 +66,11 @@ Vec3 contact_force(const ContactNode& s, const Vec3& r);
 /// G = κ n nᵀ in contact, zero otherwise: the node's 3x3 block of the matrix.
 Mat3 contact_matrix(const ContactNode& s);
 
+/// The node leaves contact: Separation if it was in contact at t (`committed`), and no
+/// reaction ((3.5); the report leaves F of a node released in the step it closed in unstated:
+/// zero as well).
+void release_contact_node(ContactNode& s, const ContactNode& committed);
+
 /// Where the surface is during a step: translated by m0 at t, by m1 at t + Δt.
 struct SurfaceMotion {
   const RigidSurface* surface;

@@ -234,9 +234,7 @@ int ContactStep::release_pulling(const State& c, State& trial, double limit) {
       if (!s.contact) continue;
       const Vec3 r = position(static_cast<int>(b), static_cast<int>(i), trial.u);
       if (contact_force(s, r).dot(s.normal) >= -limit) continue;
-      s.contact = false;
-      s.separation = c.contact[b][i].contact;
-      s.force = Vec3::Zero();
+      release_contact_node(s, c.contact[b][i]);
       ++flips_[b][i];
       released += counts(b, i);
     }

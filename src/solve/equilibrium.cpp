@@ -36,6 +36,19 @@ double model_size(const Mesh& mesh, const NodalLayout& layout) {
   return (hi - lo).norm();
 }
 
+/// solver.max_iterations: auto, by the scheme's matrix policy. An iteration of a fixed-matrix
+/// scheme is a back-substitution and a stress evaluation, tens of times cheaper than newton's
+/// factorization (31 + 19 ms against 0.9 s at 81k unknowns, docs/schemes.md), and it converges
+/// linearly: while yield spreads the mixed iterations needed up to 60 a step (initial-stress,
+/// the plate with a hole) and 185 (initial-strain, the same). With 50 for every scheme, the
+/// issue-16 cases cut back steps that were converging (initial-stress on unload-all failed at
+/// 50 iterations with a residual of 3e-7 against 1e-6; both initial-stress schemes were cut
+/// back on unload-all and the indentation); with 200 none is (unload-all 182 -> 123
+/// iterations in all, no cut-back, as the cut-back attempts no longer count).
+int auto_max_iterations(MatrixPolicy policy) {
+  return policy == MatrixPolicy::per_iteration ? 50 : 200;
+}
+
 }  // namespace
 
 Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings& timings,
@@ -53,16 +66,16 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
                           m.spec().solver.relaxation)),
       points_(m, only_, *scheme_),
       // The flips a contact node may make in a step before the set is called oscillating
-      // (ContactStep::update): 6 for the schemes whose matrix follows the iterate; the
-      // fixed-matrix schemes iterate linearly, with four times their iteration limit (below),
-      // and a node at the edge of the contact follows their unsettled plastic strains for
-      // longer before it settles. Measured on tests/cli/inputs/issue16/indentation-unload,
-      // initial-strain: a node at the edge flipped 7 times in the first 22 iterations of the
-      // step to t = 1 (Δε measure 3-16), and the step and its first cut-back were cut back
-      // again; with no limit at all the set settled by iteration 25 in every step.
-      contact_(m, scheme_->matrix_policy() == MatrixPolicy::per_iteration
-                      ? ContactStep::default_max_flips
-                      : 4 * ContactStep::default_max_flips),
+      // (ContactStep::update): 6 for the schemes whose matrix follows the iterate, scaled with
+      // the scheme's automatic iteration limit: 24 for the fixed-matrix schemes, which iterate
+      // linearly, and a node at the edge of the contact follows their unsettled plastic
+      // strains for longer before it settles. Measured on
+      // tests/cli/inputs/issue16/indentation-unload, initial-strain: a node at the edge flipped 7
+      // times in the first 22 iterations of the step to t = 1 (Δε measure 3-16), and the step and
+      // its first cut-back were cut back again; with no limit at all the set settled by iteration
+      // 25 in every step.
+      contact_(m, ContactStep::default_max_flips * auto_max_iterations(scheme_->matrix_policy()) /
+                      auto_max_iterations(MatrixPolicy::per_iteration)),
       layout_(m.layout()),
       own_dofs_(layout_.owned_entries(m.dofs().eq.size(), 3, m.mesh().n_nodes())),
       own_free_(layout_.owned_free(m.dofs().eq, 3)),
@@ -103,18 +116,10 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
   // initial-strain-stiffness, took 677 iterations and failed on reloading with the elastic
   // start, 0.99 per iteration from the elastic iterate; 37 iterations without).
   elastic_start_ = !given_omega;
-  // solver.max_iterations: auto. An iteration of a fixed-matrix scheme is a back-substitution
-  // and a stress evaluation, tens of times cheaper than newton's factorization (31 + 19 ms
-  // against 0.9 s at 81k unknowns, docs/schemes.md), and it converges linearly: while yield
-  // spreads the mixed iterations needed up to 60 a step (initial-stress, the plate with a
-  // hole) and 185 (initial-strain, the same). With 50 for every scheme, the
-  // issue-16 cases cut back steps that were converging (initial-stress on unload-all failed at
-  // 50 iterations with a residual of 3e-7 against 1e-6; both initial-stress schemes were cut
-  // back on unload-all and the indentation); with 200 none is (unload-all 182 -> 123
-  // iterations in all, no cut-back, as the cut-back attempts no longer count).
-  max_iterations_ = m.spec().solver.max_iterations > 0 ? m.spec().solver.max_iterations
-                    : scheme_->matrix_policy() == MatrixPolicy::per_iteration ? 50
-                                                                              : 200;
+  // solver.max_iterations: auto (auto_max_iterations).
+  max_iterations_ = m.spec().solver.max_iterations > 0
+                        ? m.spec().solver.max_iterations
+                        : auto_max_iterations(scheme_->matrix_policy());
   // solver.line_search: the schemes whose matrix follows the iterate, variable-stiffness and
   // newton; the fixed-matrix schemes have Anderson's mixing instead.
   line_search_ = plastic_ && m.spec().solver.line_search &&
@@ -227,7 +232,8 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       same_broken_ = ev.points.holds_broken == last_broken_ ? same_broken_ + 1 : 1;
       last_broken_ = ev.points.holds_broken;
     }
-    if (converged(out) && !holds_broken && !released_pulling(c, trial, ev, scale)) {
+    const bool done = converged(out);
+    if (done && !holds_broken && !released_pulling(c, trial, ev, scale, out)) {
       require_strain_form(ev);
       accept(c, trial, scale, out);
       trial.force_integral = c.force_integral + f_step * (trial.time - c.time);
@@ -238,8 +244,8 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       return false;
     }
     advance(c, trial, ev, out.iterations, out.residual, previous_residual);
-    if (holds_broken && (converged(out) || same_broken_ >= settled_breaks))
-      move_holds(ev.points.holds_broken, converged(out));
+    if (holds_broken && (done || same_broken_ >= settled_breaks))
+      move_holds(ev.points.holds_broken, done);
     else if (out.iterations + 1 == hold_from && hold_set_)
       hold(out.plastic_points);
   }
@@ -253,14 +259,18 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
 /// node at the surface with F·n < 0, a contact that glues (seen while a node's contact state
 /// was held: −3.8e5 N on the ball of the indentation). A pull below the step's tolerance times
 /// its force scale is round-off: released, the residual it leaves meets the tolerance.
-bool Equilibrium::released_pulling(const State& c, State& trial, Evaluation& ev, double scale) {
+bool Equilibrium::released_pulling(const State& c, State& trial, Evaluation& ev, double scale,
+                                   StepOutcome& out) {
   if (!contact_.active()) return false;
   double limit = m_.spec().solver.tolerance * scale;
   if (layout_.shared()) par::broadcast(std::span<double>(&limit, 1));  // every rank decides alike
   const int n = contact_.release_pulling(c, trial, limit);
   if (n == 0) return false;
   log_.detail("  converged, but the surface pulls on {} nodes in contact: released", n);
+  // The residual without the released nodes' forces: what the next solve corrects (and what
+  // its iterative tolerance and the line search's test are taken from).
   ev.r2 = residual_vector(trial, &ev.r_loads2);
+  out.residual = std::sqrt(ev.r2) / scale;
   restart_next_ = true;  // a new contact set: a new map for the mixing, no fallback across it
   mixed_last_ = false;
   return true;
@@ -293,22 +303,24 @@ bool Equilibrium::released_pulling(const State& c, State& trial, Evaluation& ev,
 void Equilibrium::hold(int plastic_points) {
   holding_ = true;
   hold_moves_ = 0;
-  last_broken_ = -1;
-  same_broken_ = 0;
   const int held = points_.hold_plastic_set();
-  // A new map: Anderson's history starts again, and the next residual is not compared with
-  // this iterate's (the fallback would put the points' memory, and their holds, back).
-  restart_next_ = true;
-  mixed_last_ = false;
+  new_held_set();
   log_.detail("  the plastic set is held from here ({} points plastic, {} in the last iterate)",
               held, plastic_points);
 }
 
-void Equilibrium::move_holds(int broken, bool converged) {
-  restart_next_ = true;  // as in hold(): a new map, and no fallback across the move
+/// A new held set (hold, move_holds): a new map, so Anderson's history starts again, and the
+/// next residual is not compared with this iterate's (the fallback would put the points'
+/// memory, and their holds, back); its broken holds are counted afresh.
+void Equilibrium::new_held_set() {
+  restart_next_ = true;
+  mixed_last_ = false;
   last_broken_ = -1;
   same_broken_ = 0;
-  mixed_last_ = false;
+}
+
+void Equilibrium::move_holds(int broken, bool converged) {
+  new_held_set();
   if (++hold_moves_ > max_hold_moves) {
     points_.free_plastic_set();
     holding_ = hold_set_ = false;

@@ -80,7 +80,8 @@ class Equilibrium {
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
-  bool released_pulling(const State& c, State& trial, Evaluation& ev, double scale);
+  bool released_pulling(const State& c, State& trial, Evaluation& ev, double scale,
+                        StepOutcome& out);
   void advance(const State& c, State& trial, const Evaluation& ev, int iteration,
                double residual, double& previous_residual);
   void line_search(const State& c, State& trial);
@@ -162,6 +163,7 @@ class Equilibrium {
   int hold_moves_ = 0, last_broken_ = -1, same_broken_ = 0;
   void hold(int plastic_points);
   void move_holds(int broken, bool converged);
+  void new_held_set();
 };
 
 }  // namespace hencky
