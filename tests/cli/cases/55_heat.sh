@@ -1,8 +1,8 @@
 # Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh,
 # the mpirun ones among them). Issue 18: heat conduction. The case is
 # tests/cli/inputs/heat/case.yaml (a transient with every kind of condition, k(T), c(T) and a
-# source of T); its outputs, the same
-# run on the PETSc back end and on MPI ranks, a heat analysis that stops, and bad input.
+# source of T); its outputs, the same run on the PETSc back end and on MPI ranks, a heat
+# analysis that stops, and bad input.
 hd="$work/heat"
 rm -rf "$hd"
 mkdir -p "$hd"
