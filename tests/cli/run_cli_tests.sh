@@ -4,6 +4,8 @@
 #   CASE: names of tests/cli/cases/*.sh without .sh; `only` runs those, `except` all others
 #   (ctest runs the suite as two such halves side by side). 05_helpers is always read.
 #   HENCKY_CLI_SKIP (environment): case names left out as well.
+#   HENCKY_CLI_KEEP (environment): a folder to run in and keep (it must not exist), so that the
+#   outputs of two binaries can be compared (tests/tools/compare_trees.py); else a temporary one.
 set -u
 bin="$1"; src="$2"
 part_mode="${3:-}"; part_cases=" ${*:4} "
@@ -11,7 +13,12 @@ case "$part_mode" in
   ""|only|except) ;;
   *) echo "run_cli_tests.sh: the third argument is 'only' or 'except', not '$part_mode'" >&2; exit 2 ;;
 esac
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+if [ -n "${HENCKY_CLI_KEEP:-}" ]; then
+  mkdir "$HENCKY_CLI_KEEP" || exit 2
+  work="$(cd "$HENCKY_CLI_KEEP" && pwd)"
+else
+  work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+fi
 pass=0; fail=0
 ok()   { pass=$((pass+1)); echo "ok   $1"; }
 bad()  { fail=$((fail+1)); echo "FAIL $1"; [ -n "${2:-}" ] && echo "$2" | sed 's/^/     /'; }

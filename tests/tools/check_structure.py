@@ -56,6 +56,19 @@ def blocks(code: str):
     return out
 
 
+def top_level_commas(s: str) -> int:
+    """Commas outside <>, (), {} and []: the names one declaration declares, less one."""
+    depth, n = 0, 0
+    for ch in s:
+        if ch in "<({[":
+            depth += 1
+        elif ch in ">)}]":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            n += 1
+    return n
+
+
 def members(body: str) -> int:
     """Data members of a class body: statements at its own depth that declare no function."""
     depth, stmt, n = 0, [], 0
@@ -78,7 +91,7 @@ def members(body: str) -> int:
                 continue
             if "(" in s and not re.search(r"[={]", s.split("(")[0]):
                 continue  # a function declaration
-            n += s.count(",") + 1 if "(" not in s and "<" not in s else 1
+            n += top_level_commas(s) + 1
         else:
             stmt.append(ch)
     return n
