@@ -3,7 +3,8 @@
 // direction Z, the matrix D̃(β*) and E*, the curve a point follows during one step (with the
 // report's elastic unloading), and the radial return with its consistent tangent for the
 // reference `newton` scheme. Pure functions: they read the committed state and return new
-// values, they never write the state (STYLE.md, pattern 1).
+// values, they never write the state (as Ferrite.jl's plasticity tutorial and deal.II step-42
+// keep the constitutive law pure).
 #include <cmath>
 #include <limits>
 

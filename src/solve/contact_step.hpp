@@ -1,9 +1,9 @@
 #pragma once
-// The contact part of a step (report section 3) for the step loop of analysis.cpp: the
-// initial states (3.1), the support's forces in the residual and G in the matrix (3.2)/(3.3),
-// the force and state update after each solve (3.4)/(3.5) and step 4, the κ strategy, and the
-// checks that end a step: no node changed its state, the gaps of the nodes in contact are
-// within the allowed penetration, and the contact set does not oscillate.
+// The contact part of a step (report section 3) for the equilibrium iteration
+// (equilibrium.cpp): the initial states (3.1), the support's forces in the residual and G in the
+// matrix (3.2)/(3.3), the force and state update after each solve (3.4)/(3.5) and step 4, the κ
+// strategy, and the checks that end a step: no node changed its state, the gaps of the nodes in
+// contact are within the allowed penetration, and the contact set does not oscillate.
 #include <functional>
 #include <span>
 #include <string>

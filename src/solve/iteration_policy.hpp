@@ -1,0 +1,53 @@
+#pragma once
+// Which of hencky's additions to the report's iteration a run uses, decided once from the case
+// and the scheme (choose_policy), and the iteration limit that follows from it. Each addition
+// is a strategy of its own (solve/mixing.hpp, line_search.hpp, held_set.hpp, predictor.hpp, the
+// contact's flip limit in contact_step.hpp); the measurements that justify each decision are
+// written beside it in iteration_policy.cpp and in docs/schemes.md.
+#include <vector>
+
+#include "core/log.hpp"
+#include "solve/model.hpp"
+#include "solve/schemes.hpp"
+
+namespace hencky {
+
+struct IterationPolicy {
+  bool plastic = false;       ///< some material is plastic (the schemes' point laws run)
+  bool mix = false;           ///< Anderson mixing of the iterates (solver.acceleration)
+  int anderson_depth = 5;     ///< the mixing's history: 8 for the initial strains, else 5
+  bool elastic_start = true;  ///< the first solve of a step that yields points is elastic
+  int max_iterations = 50;    ///< solver.max_iterations resolved
+  bool limit_given = false;   ///< solver.max_iterations is a number (no extension, IterationLimit)
+  bool line_search = false;   ///< solver.line_search resolved
+  bool extrapolate = false;   ///< newton's predictor (solver.predictor)
+  bool held_set = false;      ///< the initial-strain schemes may hold their plastic set
+  int max_flips = 6;          ///< contact flips a node may make in a step (ContactStep)
+};
+
+/// solver.max_iterations: auto, by the scheme's matrix policy.
+int auto_max_iterations(MatrixPolicy policy);
+
+/// The policy of the case's solver section for `scheme`.
+IterationPolicy choose_policy(const Model& m, const Scheme& scheme);
+
+/// The iteration limit: solver.max_iterations, and under `auto` the extension of a step whose
+/// measures still fall steadily at the limit (converging_on).
+class IterationLimit {
+ public:
+  explicit IterationLimit(const IterationPolicy& p)
+      : limit_(p.max_iterations), given_(p.limit_given) {}
+  void start_step() { distances_.clear(); }
+  /// Records an iterate's worst measure over the tolerance.
+  void record(double worst) { distances_.push_back(worst); }
+  /// Whether the step stops at `iteration` (at or past the limit and not converging on).
+  /// `contact_converged`: no contact, or its last update converged. Logs an extension.
+  bool reached(int iteration, bool contact_converged, Log& log) const;
+
+ private:
+  int limit_;
+  bool given_;
+  std::vector<double> distances_;  ///< the step's iterates' worst measure over the tolerance
+};
+
+}  // namespace hencky
