@@ -66,7 +66,7 @@ Hardening::Point StepCurve::f(double sigma, bool right) const {
 }
 
 ReturnMapping radial_return(const ElasticConstants& k, const StepCurve& curve,
-                            const Voigt& sigma0, const Voigt& d_eps_ep) {
+                            const Voigt& sigma0, const Voigt& d_eps_ep, double h_kin) {
   ReturnMapping r;
   const Mat6 d = k.stiffness();
   const Voigt sigma_tr = sigma0 + d * d_eps_ep;
@@ -82,13 +82,14 @@ ReturnMapping radial_return(const ElasticConstants& k, const StepCurve& curve,
   if (f_tr <= 1e-12 * scale && (curve.elastic_unloading || curve.eps_p == 0)) return r;
   if (q_tr == 0) return r;
 
-  // g(Δλ) = q_tr − 3GΔλ − H(ε̃^p + Δλ) decreases (the curve's slope is > −3G); its root lies in
-  // [0, q_tr/3G] when loading, in [−ε̃^p, 0] when the curve is followed back.
-  double lo = f_tr > 0 ? 0.0 : -curve.eps_p, hi = f_tr > 0 ? q_tr / three_g : 0.0;
+  // g(Δλ) = q_tr − 3GΔλ − H(ε̃^p + Δλ) − H_kΔλ decreases (the curve's slope is > −3G); its
+  // root lies in [0, q_tr/(3G + H_k)] when loading, in [−ε̃^p, 0] when the curve is followed
+  // back. (With H_k = 0 the added terms are exact zeros: the isotropic return to the last bit.)
+  double lo = f_tr > 0 ? 0.0 : -curve.eps_p, hi = f_tr > 0 ? q_tr / (three_g + h_kin) : 0.0;
   auto g = [&](double dl, double* slope) {
     const auto h = curve.hardening->plastic(std::max(curve.eps_p + dl, 0.0), curve.temperature);
-    *slope = h.slope;
-    return q_tr - three_g * dl - h.value;
+    *slope = h.slope + h_kin;
+    return q_tr - three_g * dl - h.value - h_kin * dl;
   };
   double slope = 0;
   if (f_tr < 0 && g(lo, &slope) <= 0) {
@@ -110,7 +111,8 @@ ReturnMapping radial_return(const ElasticConstants& k, const StepCurve& curve,
   r.plastic = r.d_lambda != 0;
   if (!r.plastic) return r;
   const double h_slope = curve.hardening->plastic(std::max(curve.eps_p + r.d_lambda, 0.0),
-                                                  curve.temperature).slope;
+                                                  curve.temperature).slope +
+                         h_kin;
   r.sigma = sigma_tr - r.d_lambda * (d * r.z);  // D(z·Δλ) = 3GΔλ·s_tr/q_tr
   // Consistent tangent of the radial return (de Souza Neto, Perić & Owen, Computational Methods
   // for Plasticity, 2008, eq. 7.120): C = D − 3GΔλ/q_tr·2G·I_dev

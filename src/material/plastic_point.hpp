@@ -104,7 +104,11 @@ struct ReturnMapping {
 /// along the trial deviator to the curve, q_tr − 3GΔλ = H(ε̃^p + Δλ), solved by a safeguarded
 /// Newton iteration. With unloading along the curve Δλ may be negative (down to −ε̃^p).
 /// `d_eps_ep` is the mechanical strain increment Δε − Δε^th (with the ΔA·σ term of (1.9)).
+/// `h_kin`: a linear kinematic hardening modulus H_k (Prager; material/kinematic.hpp), for a
+/// return of the stress relative to the back stress (`sigma0` then σ(t) − α(t)): the equation
+/// is q_tr − (3G + H_k)Δλ = H(ε̃^p + Δλ), the tangent's H' becomes H' + H_k, and `sigma` is
+/// ξ_tr − 3GΔλ·n, the relative trial stress less the plastic correction (add α(t) for σ).
 ReturnMapping radial_return(const ElasticConstants& k, const StepCurve& curve,
-                            const Voigt& sigma0, const Voigt& d_eps_ep);
+                            const Voigt& sigma0, const Voigt& d_eps_ep, double h_kin = 0);
 
 }  // namespace hencky

@@ -1,0 +1,23 @@
+#pragma once
+// Linear kinematic hardening (Prager) combined with the isotropic curve: the yield surface
+// σ̃(σ − α) = H(ε̃^p, T) moves with the back stress α, dα = (2/3)·H_k·dε^p (a deviatoric
+// stress), so that a uniaxial bar that yielded in tension to a plastic strain ε_p yields again in
+// compression at σ = H_k·ε_p − σ_y (the Bauschinger effect) with its elastic range 2σ_y kept
+// (for a perfectly plastic isotropic part). The return is the radial return of the stress
+// relative to α (radial_return with H_k), after Simo and Hughes, Computational Inelasticity,
+// 1998, section 3.3 (J2 with combined linear hardening). A pure function, as radial_return.
+#include "material/plastic_point.hpp"
+
+namespace hencky {
+
+/// The update of a point with back stress `alpha0` at t (deviatoric, stress components).
+struct KinematicReturn {
+  ReturnMapping mapping;  ///< mapping.sigma is σ(t+Δt); z, d_lambda and the tangent as usual
+  Voigt alpha;            ///< α(t+Δt)
+};
+
+/// `h_kin`: H_k ≥ 0 (Pa); `curve`: the isotropic part at the step's temperature.
+KinematicReturn kinematic_return(const ElasticConstants& k, const StepCurve& curve, double h_kin,
+                                 const Voigt& sigma0, const Voigt& alpha0, const Voigt& d_eps_ep);
+
+}  // namespace hencky

@@ -1,0 +1,146 @@
+// Linear kinematic hardening (Prager) at one point: the consistent tangent against finite
+// differences, and a uniaxial stress cycle against its closed form (the Bauschinger effect).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "material/kinematic.hpp"
+
+namespace hencky {
+namespace {
+
+PropertyTable constant(double v) {
+  PropertyTable p;
+  p.value = {v};
+  return p;
+}
+
+const ElasticConstants steel{2.0e11, 0.3, 0.0};
+
+PlasticitySpec linear_spec(double yield, double hardening) {
+  PlasticitySpec s;
+  s.curve.kind = CurveSpec::Kind::linear;
+  s.curve.yield = constant(yield);
+  s.curve.hardening = constant(hardening);
+  return s;
+}
+
+TEST(KinematicHardening, TangentMatchesFiniteDifferences) {
+  const Hardening h(linear_spec(2.5e8, 1e9), constant(steel.E), constant(steel.nu));
+  const double three_g = 3 * steel.shear_modulus(), h_kin = 4e9;
+  std::mt19937 g(7);
+  std::uniform_real_distribution<double> d(-1, 1);
+  for (int n = 0; n < 10; ++n) {
+    Voigt alpha0, s0, x;
+    for (int i = 0; i < 6; ++i) alpha0[i] = 3e7 * d(g), s0[i] = 1e8 * d(g), x[i] = 3e-3 * d(g);
+    const double tr = (alpha0[0] + alpha0[1] + alpha0[2]) / 3;  // α is deviatoric
+    for (int i = 0; i < 3; ++i) alpha0[i] -= tr;
+    const double eps_p0 = 0.005;
+    const StepCurve curve(h, 20, three_g, eps_p0, true);
+    s0 = alpha0 + 0.9 * curve.yield_now / von_mises(s0) * s0;  // inside, near the surface
+    const KinematicReturn r = kinematic_return(steel, curve, h_kin, s0, alpha0, x);
+    ASSERT_TRUE(r.mapping.plastic);
+    // On the moved surface, α deviatoric.
+    EXPECT_NEAR(von_mises(r.mapping.sigma - r.alpha),
+                h.plastic(eps_p0 + r.mapping.d_lambda, 20).value, 1e-9 * curve.yield_now);
+    EXPECT_NEAR(r.alpha[0] + r.alpha[1] + r.alpha[2], 0.0, 1e-9 * r.alpha.norm());
+    const Mat6 c = r.mapping.tangent.matrix(steel);
+    Mat6 fd;
+    for (int j = 0; j < 6; ++j) {
+      const double step = 1e-8;
+      Voigt xp = x, xm = x;
+      xp[j] += step;
+      xm[j] -= step;
+      fd.col(j) = (kinematic_return(steel, curve, h_kin, s0, alpha0, xp).mapping.sigma -
+                   kinematic_return(steel, curve, h_kin, s0, alpha0, xm).mapping.sigma) /
+                  (2 * step);
+    }
+    EXPECT_LE((c - fd).norm(), 1e-5 * c.norm());
+  }
+}
+
+/// A point driven along uniaxial stress: the axial strain prescribed, the lateral strains
+/// iterated with the consistent tangent until σ22 = σ33 = 0.
+struct UniaxialBar {
+  const Hardening& h;
+  double h_kin;
+  Voigt sigma = Voigt::Zero(), alpha = Voigt::Zero(), eps = Voigt::Zero();
+  double eps_p = 0;
+
+  /// To axial strain e11; returns σ11.
+  double to(double e11) {
+    Voigt x = Voigt::Zero();
+    x[0] = e11 - eps[0];
+    x[1] = x[2] = -0.3 * x[0];
+    const StepCurve curve(h, 20, 3 * steel.shear_modulus(), eps_p, true);
+    KinematicReturn r;
+    for (int it = 0; it < 50; ++it) {
+      r = kinematic_return(steel, curve, h_kin, sigma, alpha, x);
+      const Mat6 c = r.mapping.tangent.matrix(steel);
+      Eigen::Matrix2d j;
+      j << c(1, 1), c(1, 2), c(2, 1), c(2, 2);
+      const Eigen::Vector2d f(r.mapping.sigma[1], r.mapping.sigma[2]);
+      if (f.norm() < 1e-6) break;
+      const Eigen::Vector2d dx = j.partialPivLu().solve(-f);
+      x[1] += dx[0];
+      x[2] += dx[1];
+    }
+    sigma = r.mapping.sigma;
+    alpha = r.alpha;
+    eps += x;
+    eps_p += r.mapping.d_lambda;
+    return sigma[0];
+  }
+};
+
+TEST(KinematicHardening, UniaxialCycleShowsTheBauschingerEffect) {
+  // Perfectly plastic isotropic part: the elastic range stays 2σ_y and moves with α.
+  const double E = steel.E, sy = 2.5e8, hk = 2e10;
+  const Hardening h(linear_spec(sy, 0.0), constant(E), constant(steel.nu));
+  UniaxialBar bar{h, hk};
+  // Loading to ε = 0.01: σ = σ_y + H_k ε_p with ε = σ/E + ε_p, so
+  // σ = (σ_y + H_k ε)/(1 + H_k/E) (the tangent modulus E H_k/(E + H_k)).
+  double s = 0;
+  for (int i = 1; i <= 20; ++i) s = bar.to(0.01 * i / 20);
+  const double s_peak = (sy + hk * 0.01) / (1 + hk / E);
+  EXPECT_NEAR(s, s_peak, 1e-8 * s_peak);
+  const double ep = 0.01 - s_peak / E;  // the plastic strain reached
+  EXPECT_NEAR(bar.eps_p, ep, 1e-9);
+  // The equivalent back stress (3/2)·α11 is H_k ε_p.
+  EXPECT_NEAR(1.5 * bar.alpha[0], hk * ep, 1e-8 * hk * ep);
+  // Unloading: elastic down to the reverse yield stress H_k ε_p − σ_y, 2σ_y below the peak.
+  const double reverse = hk * ep - sy;
+  const double e_reverse = 0.01 - (s_peak - reverse) / E;  // where it is reached
+  for (int i = 1; i <= 10; ++i) {
+    const double e = 0.01 - (0.01 - e_reverse) * (0.999 * i / 10);
+    const double si = bar.to(e);
+    EXPECT_NEAR(si, s_peak - E * (0.01 - e), 1e-8 * s_peak) << "still elastic at " << e;
+  }
+  EXPECT_DOUBLE_EQ(bar.eps_p, ep);
+  // Past it, reverse flow: σ = H_k ε_p' − σ_y on the compression branch, with
+  // ε = σ/E + ε_p' (ε_p' the net plastic strain).
+  for (int i = 1; i <= 10; ++i) s = bar.to(e_reverse - 0.004 * i / 10);
+  const double e_end = e_reverse - 0.004;
+  const double s_end = (hk * e_end - sy) / (1 + hk / E);
+  EXPECT_NEAR(s, s_end, 1e-8 * std::abs(s_end));
+  EXPECT_NEAR(s_peak - reverse, 2 * sy, 1e-6 * sy);  // the elastic range
+}
+
+TEST(KinematicHardening, WithoutKinematicModulusItIsTheIsotropicReturnToTheLastBit) {
+  const Hardening h(linear_spec(2.5e8, 3e9), constant(steel.E), constant(steel.nu));
+  const StepCurve curve(h, 20, 3 * steel.shear_modulus(), 0.002, true);
+  Voigt s0, x;
+  s0 << 1e8, -2e7, 3e7, 4e7, -1e7, 2e7;
+  x << 2e-3, -1e-3, 5e-4, 1e-3, 2e-4, -3e-4;
+  const ReturnMapping a = radial_return(steel, curve, s0, x);
+  const KinematicReturn b = kinematic_return(steel, curve, 0.0, s0, Voigt::Zero(), x);
+  ASSERT_TRUE(a.plastic);
+  EXPECT_EQ(a.sigma, b.mapping.sigma);
+  EXPECT_EQ(a.d_lambda, b.mapping.d_lambda);
+  EXPECT_EQ(a.tangent.coef, b.mapping.tangent.coef);
+  EXPECT_EQ(a.tangent.v, b.mapping.tangent.v);
+}
+
+}  // namespace
+}  // namespace hencky
