@@ -38,7 +38,7 @@ void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
 
 /// Everything the case says, bound to the mesh (or the part) and checked.
 void Model::bind(Log& log) {
-  reference_temperature_ = case_->temperature.given ? case_->temperature.reference : 0.0;
+  temperature_.reference = case_->temperature.given ? case_->temperature.reference : 0.0;
   bind_materials(log);
   check_cells();
   bind_boundary();
@@ -52,44 +52,44 @@ void Model::bind(Log& log) {
 Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(mesh)) {
   bind(log);
   set_partition(partition_from(mesh_, std::vector<int>(mesh_.cells.size(), 0), 1, 0));
-  total_points_ = n_points();
+  points_.total = n_points();
   assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
-  global_[0] = mesh_.n_nodes();
-  global_[1] = mesh_.cells.size();
-  global_[2] = dofs_.n_free;
-  global_[3] = static_cast<long long>(mesh_.cells.conn.size());
+  dist_.global[0] = mesh_.n_nodes();
+  dist_.global[1] = mesh_.cells.size();
+  dist_.global[2] = dofs_.n_free;
+  dist_.global[3] = static_cast<long long>(mesh_.cells.conn.size());
 }
 
 Model::Model(const Case& c, MeshPart part, Log& log) : case_(&c), mesh_(std::move(part.mesh)) {
   part.mesh = Mesh();
-  part_ = std::move(part);
-  if (part_->node_owner.size() != static_cast<std::size_t>(mesh_.n_nodes()) ||
-      part_->owned_nodes > mesh_.n_nodes())
+  dist_.part = std::move(part);
+  if (dist_.part->node_owner.size() != static_cast<std::size_t>(mesh_.n_nodes()) ||
+      dist_.part->owned_nodes > mesh_.n_nodes())
     throw std::invalid_argument("Model: the part's owners do not match its nodes");
   bind(log);
   // Every cell of the part is this rank's, and so are its points.
-  partition_.parts = par::size();
-  partition_.rank = par::rank();
-  partition_.cell_owner.assign(mesh_.cells.size(), partition_.rank);
-  partition_.owned_cell.assign(mesh_.cells.size(), 1);
-  partition_.node_owner = part_->node_owner;
-  partition_.owned_cells = mesh_.cells.size();
-  partition_.owned_nodes = part_->owned_nodes;
-  hold_points(partition_.owned_cell);
+  dist_.partition.parts = par::size();
+  dist_.partition.rank = par::rank();
+  dist_.partition.cell_owner.assign(mesh_.cells.size(), dist_.partition.rank);
+  dist_.partition.owned_cell.assign(mesh_.cells.size(), 1);
+  dist_.partition.node_owner = dist_.part->node_owner;
+  dist_.partition.owned_cells = mesh_.cells.size();
+  dist_.partition.owned_nodes = dist_.part->owned_nodes;
+  hold_points(dist_.partition.owned_cell);
   assembler_ = std::make_unique<Assembler>(mesh_.cells, mesh_.n_nodes(), dofs_);
 }
 
 void Model::set_partition(Partition partition) {
-  partition_ = std::move(partition);
-  layout_ = partition_.parts > 1 ? NodalLayout::replicated() : NodalLayout();
-  hold_points(partition_.owned_cell);
+  dist_.partition = std::move(partition);
+  dist_.layout = dist_.partition.parts > 1 ? NodalLayout::replicated() : NodalLayout();
+  hold_points(dist_.partition.owned_cell);
 }
 
 void Model::hold_points(const std::vector<char>& held) {
-  point_offset_.assign(mesh_.cells.size() + 1, 0);
+  points_.offset.assign(mesh_.cells.size() + 1, 0);
   for (int e = 0; e < mesh_.cells.size(); ++e)
-    point_offset_[e + 1] =
-        point_offset_[e] + (held[e] ? reference_table(mesh_.cells.type[e]).n_points : 0);
+    points_.offset[e + 1] =
+        points_.offset[e] + (held[e] ? reference_table(mesh_.cells.type[e]).n_points : 0);
 }
 
 const Region& Model::find_region(const std::string& name, const SourceLocation& where,
@@ -230,7 +230,7 @@ void Model::bind_outputs() {
                          p.point, 1e-8, probe.xi))
         probe.cell = e;
     }
-    if (probe.cell < 0 && !part_)
+    if (probe.cell < 0 && !dist_.part)
       throw InputError(p.where, fmt::format("probe '{}' at ({:g}, {:g}, {:g}) is outside the mesh",
                                             p.name, p.point.x(), p.point.y(), p.point.z()));
     probes_.push_back(probe);
@@ -243,7 +243,7 @@ void Model::bind_outputs() {
     for (const auto& b : case_->heat.boundary)
       heat = heat || (b.kind == HeatBoundarySpec::Kind::temperature &&
                       Mesh::same_region_name(b.region, r.name, region_names_ignore_case()));
-    if (!any && !heat && !part_)
+    if (!any && !heat && !dist_.part)
       throw InputError(out.reaction_where[k],
                        fmt::format("region '{}' has no prescribed displacement{}, so it carries "
                                    "no reaction",

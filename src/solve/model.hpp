@@ -87,16 +87,16 @@ class Model {
   Mesh take_mesh() && { return std::move(mesh_); }
   /// The part's numbering against the whole mesh (its `mesh` is empty: the model holds it),
   /// or nullptr for a model of the whole mesh.
-  const MeshPart* part() const { return part_ ? &*part_ : nullptr; }
+  const MeshPart* part() const { return dist_.part ? &*dist_.part : nullptr; }
   /// The ghost exchange of a part's nodes (after join), or nullptr.
-  const NodeExchange* exchange() const { return exchange_.get(); }
+  const NodeExchange* exchange() const { return dist_.exchange.get(); }
   /// A cell the ranks agree on, from what each found (its own index of a cell, or -1): the
   /// lowest found, as agreed_index() numbers it (Model::cell_facts tells its tag and
   /// material). -1 when no rank found one. Collective.
   int agreed_cell(int found) const;
   /// This model's index of its cell where the mesh is whole on every rank, else the whole
   /// mesh's.
-  int agreed_index(int cell) const { return part_ ? part_->global_cell[cell] : cell; }
+  int agreed_index(int cell) const { return dist_.part ? dist_.part->global_cell[cell] : cell; }
   struct CellFacts {
     long tag = -1;      ///< the mesh file's number
     int material = -1;  ///< index into materials()
@@ -105,11 +105,11 @@ class Model {
   CellFacts cell_facts(int agreed) const;
   /// The whole model's counts: nodes, volume cells and free dofs (this model's own without a
   /// part).
-  long long global_nodes() const { return global_[0]; }
-  long long global_cells() const { return global_[1]; }
-  long long global_free() const { return global_[2]; }
+  long long global_nodes() const { return dist_.global[0]; }
+  long long global_cells() const { return dist_.global[1]; }
+  long long global_free() const { return dist_.global[2]; }
   /// The length of the whole mesh's cell connectivity (its cells' node references).
-  long long global_connectivity() const { return global_[3]; }
+  long long global_connectivity() const { return dist_.global[3]; }
 
   const Case& spec() const { return *case_; }
   const Mesh& mesh() const { return mesh_; }
@@ -122,23 +122,23 @@ class Model {
   // Integration points are stored per rank, cell by cell, for the cells this rank holds
   // (hold_points); one rank holds every cell.
   /// This rank's points: the length of a State's integration-point arrays.
-  int n_points() const { return point_offset_.back(); }
+  int n_points() const { return points_.offset.back(); }
   /// Where cell's points start in this rank's arrays; a cell held by another rank has none
   /// (point_offset(cell) == point_offset(cell + 1)).
-  int point_offset(int cell) const { return point_offset_[cell]; }
-  bool holds_points(int cell) const { return point_offset_[cell + 1] > point_offset_[cell]; }
+  int point_offset(int cell) const { return points_.offset[cell]; }
+  bool holds_points(int cell) const { return points_.offset[cell + 1] > points_.offset[cell]; }
   /// The points of the whole model, over all ranks.
-  int total_points() const { return total_points_; }
+  int total_points() const { return points_.total; }
   /// On a part (after join): where cell's points start in the whole mesh's order, the order
   /// of a checkpoint.
-  long long whole_point_offset(int cell) const { return whole_point_offset_[cell]; }
+  long long whole_point_offset(int cell) const { return points_.whole_offset[cell]; }
   /// The split of the mesh over the MPI ranks (one part on one rank): this rank then holds the
   /// points of its own cells (hold_points). Call before any State is made.
   void set_partition(Partition partition);
-  const Partition& partition() const { return partition_; }
+  const Partition& partition() const { return dist_.partition; }
   /// How this rank's nodal vectors stand to the whole model's: whole on one rank, replicated
   /// once set_partition split the cells over several.
-  const NodalLayout& layout() const { return layout_; }
+  const NodalLayout& layout() const { return dist_.layout; }
   const MaterialModel& material_of(int cell) const { return materials_[cell_material_[cell]]; }
   int material_index(int cell) const { return cell_material_[cell]; }
   const std::vector<MaterialModel>& materials() const { return materials_; }
@@ -146,7 +146,7 @@ class Model {
   /// cell -1.
   const std::vector<Probe>& probes() const { return probes_; }
   const std::vector<ReactionRegion>& reaction_regions() const { return reactions_; }
-  double reference_temperature() const { return reference_temperature_; }
+  double reference_temperature() const { return temperature_.reference; }
   bool has_temperature() const { return case_->temperature.given; }
   /// The case's contacts, bound to the mesh (empty without a contact section).
   const std::vector<ContactBody>& contacts() const { return contacts_; }
@@ -159,16 +159,16 @@ class Model {
   // Heat conduction (the heat section; empty without one).
   bool has_heat() const { return case_->heat.given; }
   /// The temperature dofs, one per node: prescribed where a heat temperature condition holds.
-  const DofMap& heat_dofs() const { return heat_dofs_; }
-  const Assembler& heat_assembler() const { return *heat_assembler_; }
+  const DofMap& heat_dofs() const { return heat_.dofs; }
+  const Assembler& heat_assembler() const { return *heat_.assembler; }
   /// Per node, the heat.boundary entry that prescribes its temperature (the last one listed
   /// that holds the node), or -1.
-  const std::vector<int>& heat_fixed() const { return heat_fixed_; }
+  const std::vector<int>& heat_fixed() const { return heat_.fixed; }
   /// Faces of the flux, convection and radiation conditions, and for each cell where its faces
   /// start in that list (CSR: cell c's are heat_faces()[heat_face_start(c) ..
   /// heat_face_start(c + 1)).
-  const std::vector<HeatFace>& heat_faces() const { return heat_faces_; }
-  int heat_face_start(int cell) const { return heat_face_start_[cell]; }
+  const std::vector<HeatFace>& heat_faces() const { return heat_.faces; }
+  int heat_face_start(int cell) const { return heat_.face_start[cell]; }
 
   /// Nodal temperature at time t (T_ref everywhere without a temperature section) of a field or
   /// a file; temperatures from a heat analysis are the HeatSolver's.
@@ -194,7 +194,7 @@ class Model {
   /// The thermal strain α(T)·T − α(T_ref)·T_ref (volumetric) of `cell`'s material with the
   /// constants k at T: the strain of (1.14) accumulated from the reference state.
   double thermal_strain(int cell, const ElasticConstants& k, double T) const {
-    return k.thermal_strain(T) - reference_strain_[cell_material_[cell]];
+    return k.thermal_strain(T) - temperature_.reference_strain[cell_material_[cell]];
   }
 
  private:
@@ -233,41 +233,62 @@ class Model {
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 
-  const Case* case_;
-  Mesh mesh_;
-  std::optional<MeshPart> part_;
-  long long global_[4] = {0, 0, 0, 0};
-  /// On a part: this rank's area of each force boundary's region (join sums them), by index
-  /// into Case::boundary.
-  std::vector<std::pair<int, double>> part_areas_;
-  /// The ranks share one NodeExchange over the part's nodes (its layout's).
-  std::shared_ptr<const NodeExchange> exchange_;
-  std::vector<MaterialModel> materials_;
-  std::vector<int> cell_material_;
-  std::vector<int> point_offset_;
-  std::vector<long long> whole_point_offset_;  ///< a part's (join)
-  int total_points_ = 0;
-  Partition partition_;
-  NodalLayout layout_;
-  DofMap dofs_;
-  std::unique_ptr<Assembler> assembler_;
+  /// How this model stands to the MPI ranks.
+  struct Distribution {
+    std::optional<MeshPart> part;        ///< a part model's numbering, else empty
+    long long global[4] = {0, 0, 0, 0};  ///< the whole model's counts (global_nodes() ...)
+    /// The ranks share one NodeExchange over the part's nodes (its layout's).
+    std::shared_ptr<const NodeExchange> exchange;
+    Partition partition;
+    NodalLayout layout;
+  };
+  /// Where each cell's integration points are stored (hold_points).
+  struct PointLayout {
+    std::vector<int> offset;              ///< this rank's, per cell and one past the last
+    std::vector<long long> whole_offset;  ///< a part's, in the whole mesh's order (join)
+    int total = 0;                        ///< over all ranks
+  };
   struct PrescribedDof {
     int dof;
     const Expression* value;
   };
-  std::vector<PrescribedDof> prescribed_;
-  std::vector<FaceLoad> face_loads_;
+  /// The displacement and load conditions bound to the mesh (bind_boundary).
+  struct Loads {
+    std::vector<PrescribedDof> prescribed;
+    std::vector<FaceLoad> faces;
+    /// On a part: this rank's area of each force boundary's region (join sums them), by index
+    /// into Case::boundary.
+    std::vector<std::pair<int, double>> part_areas;
+  };
+  /// The heat section bound to the mesh (bind_heat): heat_dofs() ... heat_face_start().
+  struct HeatBinding {
+    DofMap dofs;
+    std::unique_ptr<Assembler> assembler;
+    std::vector<int> fixed;
+    std::vector<HeatFace> faces;
+    std::vector<int> face_start;
+  };
+  /// The temperature section bound to the mesh and the materials.
+  struct Temperatures {
+    std::vector<int> row;                  ///< row of the temperature file for each node
+    std::vector<double> reference_strain;  ///< α(T_ref)·T_ref of each material
+    double reference = 0;                  ///< T_ref (0 without a temperature section)
+  };
+
+  const Case* case_;
+  Mesh mesh_;
+  Distribution dist_;
+  std::vector<MaterialModel> materials_;
+  std::vector<int> cell_material_;
+  PointLayout points_;
+  DofMap dofs_;
+  std::unique_ptr<Assembler> assembler_;
+  Loads loads_;
   std::vector<Probe> probes_;
   std::vector<ReactionRegion> reactions_;
   std::vector<ContactBody> contacts_;
-  DofMap heat_dofs_;
-  std::unique_ptr<Assembler> heat_assembler_;
-  std::vector<int> heat_fixed_;
-  std::vector<HeatFace> heat_faces_;
-  std::vector<int> heat_face_start_;
-  std::vector<int> temperature_row_;      ///< row of the temperature file for each node
-  std::vector<double> reference_strain_;  ///< α(T_ref)·T_ref of each material
-  double reference_temperature_ = 0;
+  HeatBinding heat_;
+  Temperatures temperature_;
 };
 
 }  // namespace hencky

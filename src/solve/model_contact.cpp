@@ -34,7 +34,7 @@ void Model::bind_contact() {
     }
     // A part's points are bound in join(): their areas, element sizes and stiffness sum
     // over the ranks that hold faces and cells at them.
-    if (part_) {
+    if (dist_.part) {
       contacts_.push_back(std::move(body));
       continue;
     }
@@ -59,7 +59,7 @@ void Model::add_contact_stiffness(std::vector<ContactPoint>& points) const {
       continue;
     for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh_.x[nodes[a]];
     kin.compute(reference_table(mesh_.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
-    const ElasticConstants k = material_of(e).at(reference_temperature_);
+    const ElasticConstants k = material_of(e).at(temperature_.reference);
     const double c = (k.lame_lambda() + 4 * k.shear_modulus()) / 3;
     for (int q = 0; q < kin.points; ++q)
       for (std::size_t a = 0; a < nodes.size(); ++a)
@@ -107,7 +107,7 @@ void Model::bind_contact_of_part() {
     const Region& region = find_region(spec.nodes, spec.nodes_where, 2, 2, "physical surface");
     std::vector<double> flag(n, 0.0);
     for (int v : region.nodes) flag[v] = 1;
-    exchange_->sum(flag, 1);
+    dist_.exchange->sum(flag, 1);
     std::vector<int> nodes;
     for (int v = 0; v < n; ++v)
       if (flag[v] > 0) nodes.push_back(v);
@@ -131,16 +131,16 @@ void Model::bind_contact_of_part() {
       x[2] = sums.faces[i];
       x[3] = p.stiffness;
       if (p.terms == 3) {
-        const long long a = part_->global_node[p.term_node[1]],
-                        b = part_->global_node[p.term_node[2]];
+        const long long a = dist_.part->global_node[p.term_node[1]],
+                        b = dist_.part->global_node[p.term_node[2]];
         x[4] = 1;
         x[5] = static_cast<double>(std::min(a, b));
         x[6] = static_cast<double>(std::max(a, b));
       }
     }
-    exchange_->sum(v, w);
+    dist_.exchange->sum(v, w);
     if (local.empty())
-      for (int k = 0; k < n; ++k) local.emplace(part_->global_node[k], k);
+      for (int k = 0; k < n; ++k) local.emplace(dist_.part->global_node[k], k);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       ContactPoint& p = sums.points[i];
       const double* x = &v[static_cast<std::size_t>(w) * nodes[i]];
@@ -158,7 +158,7 @@ void Model::bind_contact_of_part() {
     // region's, transiently) and tells each its points' places; ghosts take their owners'.
     std::vector<long long> own;
     for (const ContactPoint& p : body.points)
-      if (p.node < part_->owned_nodes) own.push_back(part_->global_node[p.node]);
+      if (p.node < dist_.part->owned_nodes) own.push_back(dist_.part->global_node[p.node]);
     const auto as_bytes = [](const std::vector<long long>& numbers) {
       return std::string(reinterpret_cast<const char*>(numbers.data()),
                          numbers.size() * sizeof(long long));
@@ -185,18 +185,18 @@ void Model::bind_contact_of_part() {
     std::vector<double> index(n, -1.0);
     std::size_t k = 0;
     for (const ContactPoint& p : body.points)
-      if (p.node < part_->owned_nodes) {
+      if (p.node < dist_.part->owned_nodes) {
         long long place = 0;
         std::memcpy(&place, mine.data() + k++ * sizeof place, sizeof place);
         index[p.node] = static_cast<double>(place);
       }
-    exchange_->to_ghosts(index, 1);
+    dist_.exchange->to_ghosts(index, 1);
     body.whole_points = static_cast<int>(par::sum(static_cast<long long>(own.size())));
     body.whole_index.clear();
     for (const ContactPoint& p : body.points)
       body.whole_index.push_back(static_cast<int>(std::llround(index[p.node])));
     // The first node inside the surface in the whole order is the lowest rank's first own.
-    error = par::first_error(start_contact(body, &part_->node_owner));
+    error = par::first_error(start_contact(body, &dist_.part->node_owner));
     if (!error.empty()) throw InputError(spec.surface_where, error);
   }
 }

@@ -16,32 +16,32 @@
 namespace hencky {
 
 void Model::join() {
-  if (!part_) return;
-  exchange_ = std::make_shared<const NodeExchange>(*part_);
-  layout_ = NodalLayout::distributed(exchange_);
+  if (!dist_.part) return;
+  dist_.exchange = std::make_shared<const NodeExchange>(*dist_.part);
+  dist_.layout = NodalLayout::distributed(dist_.exchange);
   // The whole model's counts: each node counted by its owner.
-  total_points_ = static_cast<int>(par::sum(static_cast<long long>(n_points())));
-  global_[0] = par::sum(static_cast<long long>(part_->owned_nodes));
-  global_[1] = par::sum(static_cast<long long>(mesh_.cells.size()));
-  global_[2] = par::sum(static_cast<long long>(layout_.owned_free(dofs_.eq, 3)));
-  global_[3] = par::sum(static_cast<long long>(mesh_.cells.conn.size()));
+  points_.total = static_cast<int>(par::sum(static_cast<long long>(n_points())));
+  dist_.global[0] = par::sum(static_cast<long long>(dist_.part->owned_nodes));
+  dist_.global[1] = par::sum(static_cast<long long>(mesh_.cells.size()));
+  dist_.global[2] = par::sum(static_cast<long long>(dist_.layout.owned_free(dofs_.eq, 3)));
+  dist_.global[3] = par::sum(static_cast<long long>(mesh_.cells.conn.size()));
   // Where each cell's points start in the whole mesh's order: the reading rank counted them
   // (MeshPart::global_point), with the points this model holds.
-  whole_point_offset_ = part_->global_point;
-  if (whole_point_offset_.size() != static_cast<std::size_t>(mesh_.cells.size()))
+  points_.whole_offset = dist_.part->global_point;
+  if (points_.whole_offset.size() != static_cast<std::size_t>(mesh_.cells.size()))
     throw std::logic_error("Model::join: the part has no point offsets for its cells");
   long long end = 0;
   for (int e = 0; e < mesh_.cells.size(); ++e)
-    end = std::max(end, whole_point_offset_[e] + point_offset_[e + 1] - point_offset_[e]);
-  if (par::max(end) != total_points_)
+    end = std::max(end, points_.whole_offset[e] + points_.offset[e + 1] - points_.offset[e]);
+  if (par::max(end) != points_.total)
     throw std::logic_error("Model::join: the part's point offsets are not the model's points");
   check_outer_faces();
   check_whole();
   // A total force spreads over its region's whole area.
   std::vector<double> area(case_->boundary.size(), 0.0);
-  for (const auto& [b, a] : part_areas_) area[b] += a;
+  for (const auto& [b, a] : loads_.part_areas) area[b] += a;
   par::sum_in_place(std::span<double>(area));
-  for (FaceLoad& load : face_loads_)
+  for (FaceLoad& load : loads_.faces)
     if (case_->boundary[load.boundary].kind == BoundaryKind::force) {
       if (!(area[load.boundary] > 0))
         throw InputError(
@@ -52,13 +52,13 @@ void Model::join() {
   // A probe belongs to the lowest rank that found it in its cells (a point on a face between
   // two ranks' cells is in both).
   for (Probe& p : probes_) {
-    const int owner = par::min(p.cell >= 0 ? partition_.rank : INT_MAX);
+    const int owner = par::min(p.cell >= 0 ? dist_.partition.rank : INT_MAX);
     if (owner == INT_MAX)
       throw InputError(
           p.spec->where,
           fmt::format("probe '{}' at ({:g}, {:g}, {:g}) is outside the mesh", p.spec->name,
                       p.spec->point.x(), p.spec->point.y(), p.spec->point.z()));
-    if (owner != partition_.rank) p.cell = -1;
+    if (owner != dist_.partition.rank) p.cell = -1;
   }
   // A region carries a reaction where some rank prescribes a displacement in it.
   for (std::size_t k = 0; k < reactions_.size(); ++k) {
@@ -78,7 +78,7 @@ void Model::check_outer_faces() const {
   // (face_owner), so the ranks count together the cells at every loaded face whose corners
   // all have copies on other ranks (only such a face can have a cell elsewhere).
   std::vector<double> copies(mesh_.n_nodes(), 1.0);
-  exchange_->sum(copies, 1);
+  dist_.exchange->sum(copies, 1);
   std::string mine;  // per candidate: heat?, condition, face tag, corners' whole numbers
   const auto add = [&](int f, int b, bool heat) {
     const auto nodes = mesh_.faces.nodes(f);
@@ -86,13 +86,13 @@ void Model::check_outer_faces() const {
     std::array<long long, 4> key{-1, -1, -1, -1};
     for (int a = 0; a < corners; ++a) {
       if (copies[nodes[a]] < 1.5) return;
-      key[a] = part_->global_node[nodes[a]];
+      key[a] = dist_.part->global_node[nodes[a]];
     }
     mine += fmt::format("{} {} {} {} {} {} {}\n", int(heat), b, mesh_.faces.tag[f], key[0], key[1],
                         key[2], key[3]);
   };
-  for (const FaceLoad& load : face_loads_) add(load.face, load.boundary, false);
-  for (const HeatFace& face : heat_faces_) add(face.face, face.boundary, true);
+  for (const FaceLoad& load : loads_.faces) add(load.face, load.boundary, false);
+  for (const HeatFace& face : heat_.faces) add(face.face, face.boundary, true);
   std::string all;
   for (const std::string& text : par::gather_strings(mine)) all += text;
   par::broadcast(all);
@@ -108,7 +108,7 @@ void Model::check_outer_faces() const {
        in >> c.heat >> c.condition >> c.tag >> c.key[0] >> c.key[1] >> c.key[2] >> c.key[3];)
     candidates.push_back(c);
   std::unordered_map<long long, int> local;
-  for (int n = 0; n < mesh_.n_nodes(); ++n) local.emplace(part_->global_node[n], n);
+  for (int n = 0; n < mesh_.n_nodes(); ++n) local.emplace(dist_.part->global_node[n], n);
   std::vector<int> nc_ptr, nc_idx;
   node_cell_incidence(mesh_.cells, mesh_.n_nodes(), nc_ptr, nc_idx);
   std::vector<double> cells(candidates.size(), 0.0);  // this rank's cells at each face
@@ -159,7 +159,7 @@ void Model::check_whole() const {
         par::sum(static_cast<long long>(
             mesh_.find_region(bc.region, 2, 2, region_names_ignore_case())->cells.size())) == 0)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", bc.region));
-  if (!par::any(!prescribed_.empty()))
+  if (!par::any(!loads_.prescribed.empty()))
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
@@ -184,9 +184,9 @@ int Model::agreed_cell(int found) const {
 
 Model::CellFacts Model::cell_facts(int agreed) const {
   if (agreed < 0) return {};
-  if (!part_) return {mesh_.cells.tag[agreed], cell_material_[agreed]};
+  if (!dist_.part) return {mesh_.cells.tag[agreed], cell_material_[agreed]};
   // The part's cells are in the whole mesh's order: its owner finds it by bisection.
-  const auto& g = part_->global_cell;
+  const auto& g = dist_.part->global_cell;
   const auto it = std::lower_bound(g.begin(), g.end(), agreed);
   const bool mine = it != g.end() && *it == agreed;
   const int e = static_cast<int>(it - g.begin());

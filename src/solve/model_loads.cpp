@@ -28,12 +28,12 @@ void Model::bind_boundary() {
         for (int d = 0; d < 3; ++d)
           if (bc.components[d]) {
             prescribed[3 * n + d] = true;
-            prescribed_.push_back({3 * n + d, &*bc.components[d]});
+            loads_.prescribed.push_back({3 * n + d, &*bc.components[d]});
           }
       continue;
     }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
-    if (r.cells.empty() && !part_)
+    if (r.cells.empty() && !dist_.part)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", r.name));
     double area = 0;
     for (int f : r.cells) {
@@ -62,19 +62,19 @@ void Model::bind_boundary() {
       for (int n : cn) cell_centre += mesh_.x[n] / static_cast<double>(cn.size());
       for (int n : nodes) face_centre += mesh_.x[n] / static_cast<double>(nodes.size());
       const double sign = normal.dot(face_centre - cell_centre) >= 0 ? 1.0 : -1.0;
-      face_loads_.push_back({f, static_cast<int>(b), sign, 1.0});
+      loads_.faces.push_back({f, static_cast<int>(b), sign, 1.0});
     }
-    if (bc.kind == BoundaryKind::force && part_) {
-      part_areas_.emplace_back(static_cast<int>(b), area);  // join() divides by the whole's
+    if (bc.kind == BoundaryKind::force && dist_.part) {
+      loads_.part_areas.emplace_back(static_cast<int>(b), area);  // join() divides by the whole's
     } else if (bc.kind == BoundaryKind::force) {
       if (!(area > 0))
         throw InputError(bc.where, fmt::format("region '{}' has zero area", r.name));
-      for (auto it = face_loads_.end() - r.cells.size(); it != face_loads_.end(); ++it)
+      for (auto it = loads_.faces.end() - r.cells.size(); it != loads_.faces.end(); ++it)
         it->scale = 1.0 / area;
     }
   }
   dofs_ = DofMap::from_constraints(mesh_.n_nodes(), prescribed);
-  if (part_) return;  // a part may hold no support and no free dof: the whole model has both
+  if (dist_.part) return;  // a part may hold no support and no free dof: the whole model has both
   bool any = false;
   for (bool p : prescribed) any = any || p;
   if (!any)
@@ -105,7 +105,7 @@ void Model::bind_heat() {
   const HeatSpec& heat = case_->heat;
   if (!heat.given) return;
   const int n_nodes = mesh_.n_nodes();
-  heat_fixed_.assign(n_nodes, -1);
+  heat_.fixed.assign(n_nodes, -1);
   std::vector<int> nc_ptr, nc_idx;
   node_cell_incidence(mesh_.cells, n_nodes, nc_ptr, nc_idx);
   std::vector<std::vector<HeatFace>> by_cell(mesh_.cells.size());
@@ -113,13 +113,13 @@ void Model::bind_heat() {
     const HeatBoundarySpec& bc = heat.boundary[b];
     if (bc.kind == HeatBoundarySpec::Kind::temperature) {
       const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
-      if (r.nodes.empty() && !part_)
+      if (r.nodes.empty() && !dist_.part)
         throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
-      for (int n : r.nodes) heat_fixed_[n] = static_cast<int>(b);
+      for (int n : r.nodes) heat_.fixed[n] = static_cast<int>(b);
       continue;
     }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
-    if (r.cells.empty() && !part_)
+    if (r.cells.empty() && !dist_.part)
       throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",
                                              r.name, to_string(bc.kind)));
     for (int f : r.cells) {
@@ -147,19 +147,19 @@ void Model::bind_heat() {
       by_cell[owner].push_back(hf);
     }
   }
-  heat_face_start_.assign(mesh_.cells.size() + 1, 0);
+  heat_.face_start.assign(mesh_.cells.size() + 1, 0);
   for (int c = 0; c < mesh_.cells.size(); ++c) {
-    heat_face_start_[c + 1] = heat_face_start_[c] + static_cast<int>(by_cell[c].size());
-    heat_faces_.insert(heat_faces_.end(), by_cell[c].begin(), by_cell[c].end());
+    heat_.face_start[c + 1] = heat_.face_start[c] + static_cast<int>(by_cell[c].size());
+    heat_.faces.insert(heat_.faces.end(), by_cell[c].begin(), by_cell[c].end());
   }
   std::vector<bool> prescribed(n_nodes);
-  for (int n = 0; n < n_nodes; ++n) prescribed[n] = heat_fixed_[n] >= 0;
-  heat_dofs_ = DofMap::from_constraints(n_nodes, prescribed, 1);
-  heat_assembler_ = std::make_unique<Assembler>(mesh_.cells, n_nodes, heat_dofs_);
+  for (int n = 0; n < n_nodes; ++n) prescribed[n] = heat_.fixed[n] >= 0;
+  heat_.dofs = DofMap::from_constraints(n_nodes, prescribed, 1);
+  heat_.assembler = std::make_unique<Assembler>(mesh_.cells, n_nodes, heat_.dofs);
 }
 
 void Model::prescribed_displacement(double t, std::vector<double>& u) const {
-  for (const auto& p : prescribed_) {
+  for (const auto& p : loads_.prescribed) {
     const Vec3& x = mesh_.x[p.dof / 3];
     u[p.dof] = p.value->eval_checked(x.x(), x.y(), x.z(), t, "displacement");
   }
@@ -178,7 +178,8 @@ namespace {
 
 void Model::external_forces(double t, std::vector<double>& f,
                             const std::vector<Vec3>* config) const {
-  if (layout_.kind() != NodalLayout::Kind::distributed) return own_external_forces(t, f, config);
+  if (dist_.layout.kind() != NodalLayout::Kind::distributed)
+    return own_external_forces(t, f, config);
   // A part's loads, then the sums over the copies of its shared nodes. A load that overflows
   // on one rank stops every rank: the one that found it says where.
   std::exception_ptr error;
@@ -189,14 +190,14 @@ void Model::external_forces(double t, std::vector<double>& f,
   }
   par::rethrow_anywhere(error, SourceLocation{case_->file.string(), 0, 0, "boundary"},
                         "a load met an input error on another MPI rank");
-  layout_.sum(f, 3);
+  dist_.layout.sum(f, 3);
 }
 
 void Model::own_external_forces(double t, std::vector<double>& f,
                                 const std::vector<Vec3>* config) const {
   f.assign(3 * static_cast<std::size_t>(mesh_.n_nodes()), 0.0);
   std::vector<Vec3> x(max_cell_nodes), xc(max_cell_nodes);
-  for (const FaceLoad& load : face_loads_) {
+  for (const FaceLoad& load : loads_.faces) {
     const BoundarySpec& bc = case_->boundary[load.boundary];
     const auto nodes = mesh_.faces.nodes(load.face);
     const auto& tab = reference_table(mesh_.faces.type[load.face]);

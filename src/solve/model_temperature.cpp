@@ -17,7 +17,7 @@ void Model::bind_temperature() {
   const TemperatureFile& tf = *ts.file;
   std::unordered_map<long, int> row_of_tag;
   for (std::size_t r = 0; r < tf.node_tags.size(); ++r) row_of_tag.emplace(tf.node_tags[r], r);
-  temperature_row_.resize(mesh_.n_nodes());
+  temperature_.row.resize(mesh_.n_nodes());
   int n_missing = 0;
   long first_missing = 0;
   for (int n = 0; n < mesh_.n_nodes(); ++n) {
@@ -26,7 +26,7 @@ void Model::bind_temperature() {
       if (n_missing++ == 0) first_missing = mesh_.node_tag[n];
       continue;
     }
-    temperature_row_[n] = it->second;
+    temperature_.row[n] = it->second;
   }
   if (n_missing > 0)
     throw InputError(SourceLocation{tf.path.string(), 0, 0, "temperature.field.file"},
@@ -36,7 +36,7 @@ void Model::bind_temperature() {
 }
 
 bool Model::thermal_in_range(int mi, const ElasticConstants& k, double T) const {
-  const double strain = k.thermal_strain(T) - reference_strain_[mi];
+  const double strain = k.thermal_strain(T) - temperature_.reference_strain[mi];
   return std::isfinite(strain) && std::isfinite(k.E / (1 - 2 * k.nu) * strain);
 }
 
@@ -47,7 +47,7 @@ void Model::thermal_out_of_range(int cell, double T, double t) const {
 void Model::thermal_out_of_range(const CellFacts& cell, double T, double t) const {
   const int mi = cell.material;
   const ElasticConstants k = materials_[mi].at(T);
-  const double strain = k.thermal_strain(T) - reference_strain_[mi];
+  const double strain = k.thermal_strain(T) - temperature_.reference_strain[mi];
   const auto& ts = case_->temperature;
   throw InputError(
       ts.field_where,
@@ -57,23 +57,23 @@ void Model::thermal_out_of_range(const CellFacts& cell, double T, double t) cons
                   "floating point; check the temperatures' magnitude and units",
                   T, cell.tag, materials_[mi].spec->name,
                   std::isnan(t) ? std::string() : fmt::format(", t = {:g}", t), strain, k.alpha,
-                  reference_temperature_, k.E / (1 - 2 * k.nu) * strain));
+                  temperature_.reference, k.E / (1 - 2 * k.nu) * strain));
 }
 
 void Model::check_temperature_range() {
   // What can be known before the first step (so that `hencky check` finds it too); the step
   // loop checks every point's temperature at every step (PointPass::temperatures).
   const auto& ts = case_->temperature;
-  auto& ref = reference_strain_;
+  auto& ref = temperature_.reference_strain;
   ref.clear();
   for (const auto& m : materials_) {
-    ref.push_back(m.at(reference_temperature_).thermal_strain(reference_temperature_));
+    ref.push_back(m.at(temperature_.reference).thermal_strain(temperature_.reference));
     if (!std::isfinite(ref.back()))
       throw InputError(ts.reference_where,
                        fmt::format("T_ref = {:g} gives material '{}' alpha(T_ref)*T_ref = {:g}: "
                                    "beyond the range of floating point; check its magnitude "
                                    "and units",
-                                   reference_temperature_, m.spec->name, ref.back()));
+                                   temperature_.reference, m.spec->name, ref.back()));
   }
   if (!ts.given) return;
   // Per cell, the lowest and the highest temperature any of its nodes takes: a constant field
@@ -88,7 +88,7 @@ void Model::check_temperature_range() {
     lo.resize(mesh_.n_nodes());
     hi.resize(mesh_.n_nodes());
     for (int n = 0; n < mesh_.n_nodes(); ++n) {
-      const double* v = ts.file->values.data() + temperature_row_[n] * n_times;
+      const double* v = ts.file->values.data() + temperature_.row[n] * n_times;
       lo[n] = *std::min_element(v, v + n_times);
       hi[n] = *std::max_element(v, v + n_times);
     }
@@ -106,7 +106,7 @@ void Model::nodal_temperature(double t, std::vector<double>& T) const {
   const auto& ts = case_->temperature;
   T.resize(mesh_.n_nodes());
   if (ts.file) {
-    for (int n = 0; n < mesh_.n_nodes(); ++n) T[n] = ts.file->at(temperature_row_[n], t);
+    for (int n = 0; n < mesh_.n_nodes(); ++n) T[n] = ts.file->at(temperature_.row[n], t);
   } else if (ts.field) {
     for (int n = 0; n < mesh_.n_nodes(); ++n) {
       const Vec3& x = mesh_.x[n];
@@ -115,7 +115,7 @@ void Model::nodal_temperature(double t, std::vector<double>& T) const {
   } else if (ts.from_heat) {
     throw std::logic_error("temperature from: heat is the heat analysis's (HeatSolver::at)");
   } else {
-    std::fill(T.begin(), T.end(), reference_temperature_);
+    std::fill(T.begin(), T.end(), temperature_.reference);
   }
 }
 
