@@ -23,7 +23,7 @@
 //   proportional paths, kept consistent with the actual stress on others and after reversals;
 // - Z is the direction of the iterate's elastic trial stress σ(t) + Dx (as the radial return
 //   takes it), so the answer lies on the yield surface and equals newton's on any path
-//   (`along_z` in schemes.cpp); the report's Mσ(t)/σ̃(t) (2.10) stays the direction of the
+//   (`along_z`, solve/scheme_law.hpp); the report's Mσ(t)/σ̃(t) (2.10) stays the direction of the
 //   `-stiffness` matrix. The initial strains therefore carry a tensor Δε^0, not Zλ0: their
 //   Z turns from one iteration to the next. With the trial's Z, and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G
 //   below, ε̃^{e+p}(t) + Δε̃^{e+p} is ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
@@ -97,7 +97,8 @@ struct PointUpdate {
 };
 
 /// One scheme: the start of a step at a point, the point law, when the matrix changes and
-/// whether acceleration applies. The six implementations are in schemes.cpp.
+/// whether acceleration applies. The six implementations are in schemes.cpp (newton,
+/// variable-stiffness) and fixed_matrix_schemes.cpp (the initial strains and stresses).
 class Scheme {
  public:
   virtual ~Scheme() = default;
