@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "core/invariant.hpp"
 #include "core/suggest.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
@@ -63,9 +64,9 @@ Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(me
 Model::Model(const Case& c, MeshPart part, Log& log) : case_(&c), mesh_(std::move(part.mesh)) {
   part.mesh = Mesh();
   dist_.part = std::move(part);
-  if (dist_.part->node_owner.size() != static_cast<std::size_t>(mesh_.n_nodes()) ||
-      dist_.part->owned_nodes > mesh_.n_nodes())
-    throw std::invalid_argument("Model: the part's owners do not match its nodes");
+  HENCKY_VERIFY(dist_.part->node_owner.size() == static_cast<std::size_t>(mesh_.n_nodes()) &&
+                    dist_.part->owned_nodes <= mesh_.n_nodes(),
+                "Model: the part's owners do not match its nodes");
   bind(log);
   // Every cell of the part is this rank's, and so are its points.
   dist_.partition.parts = par::size();

@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <stdexcept>
 #include <tuple>
 #include <unordered_map>
 
 #include "contact/stl_surface.hpp"
+#include "core/invariant.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
@@ -176,8 +176,8 @@ void number_whole_points(ContactBody& body, int n, const MeshPart& part,
     for (int r = 0; r < par::size(); ++r) places[r] = as_bytes(at[r]);
   }
   const std::string mine = par::exchange_bytes(places)[0];
-  if (mine.size() != own.size() * sizeof(long long))
-    throw std::logic_error("Model::bind_contact_of_part: root sent the wrong number of places");
+  HENCKY_VERIFY(mine.size() == own.size() * sizeof(long long),
+                "number_whole_points: root sent the wrong number of places");
   std::vector<double> index(n, -1.0);
   std::size_t k = 0;
   for (const ContactPoint& p : body.points)

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "core/invariant.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/node_exchange.hpp"
 
@@ -28,13 +29,13 @@ void Model::join() {
   // Where each cell's points start in the whole mesh's order: the reading rank counted them
   // (MeshPart::global_point), with the points this model holds.
   points_.whole_offset = dist_.part->global_point;
-  if (points_.whole_offset.size() != static_cast<std::size_t>(mesh_.cells.size()))
-    throw std::logic_error("Model::join: the part has no point offsets for its cells");
+  HENCKY_VERIFY(points_.whole_offset.size() == static_cast<std::size_t>(mesh_.cells.size()),
+                "Model::join: the part has no point offsets for its cells");
   long long end = 0;
   for (int e = 0; e < mesh_.cells.size(); ++e)
     end = std::max(end, points_.whole_offset[e] + points_.offset[e + 1] - points_.offset[e]);
-  if (par::max(end) != points_.total)
-    throw std::logic_error("Model::join: the part's point offsets are not the model's points");
+  HENCKY_VERIFY(par::max(end) == points_.total,
+                "Model::join: the part's point offsets are not the model's points");
   check_outer_faces();
   check_whole();
   // A total force spreads over its region's whole area.

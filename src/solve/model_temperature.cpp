@@ -6,8 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <unordered_map>
+
+#include "core/invariant.hpp"
 
 namespace hencky {
 
@@ -112,9 +113,8 @@ void Model::nodal_temperature(double t, std::vector<double>& T) const {
       const Vec3& x = mesh_.x[n];
       T[n] = ts.field->eval_checked(x.x(), x.y(), x.z(), t, "temperature");
     }
-  } else if (ts.from_heat) {
-    throw std::logic_error("temperature from: heat is the heat analysis's (HeatSolver::at)");
   } else {
+    HENCKY_VERIFY(!ts.from_heat, "temperature from: heat is the heat analysis's (HeatSolver::at)");
     std::fill(T.begin(), T.end(), temperature_.reference);
   }
 }

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
+#include "core/invariant.hpp"
 #include "solve/scheme_law.hpp"
 
 namespace hencky {
@@ -215,7 +215,7 @@ std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omeg
     case SchemeKind::initial_stress_stiffness:
       return scheme_law::make_initial_stress(kind == SchemeKind::initial_stress_stiffness);
   }
-  throw std::logic_error("unknown scheme");
+  HENCKY_VERIFY(false, "unknown scheme");
 }
 
 }  // namespace hencky
