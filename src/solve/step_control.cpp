@@ -3,10 +3,11 @@
 // the equilibrium iteration's business (equilibrium.hpp).
 #include <fmt/format.h>
 
-#include <chrono>
 #include <deque>
+#include <optional>
 
 #include "core/interrupt.hpp"
+#include "core/timer.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/analysis.hpp"
 #include "solve/driver.hpp"
@@ -119,72 +120,50 @@ void log_step(const Model& model, const Equilibrium& eq, const StepReport& repor
     log.info("           {}", line);
 }
 
-}  // namespace
-
-AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
-                            StepObserver& observer, HeatSolver* heat, const RunOptions& options) {
-  const auto& spec = model.spec().solver;
-  std::unique_ptr<HeatSolver> own_heat;  // a caller that made none: on the case's own options
-  if (!heat && model.has_heat()) {
-    own_heat = make_heat_solver(model, log);
-    heat = own_heat.get();
-  }
-  Equilibrium eq(model, system, log, timings, heat);
-  AnalysisResult result;
-  int factorizations_before = 0;   // the factorizations of this process before the step
-  int earlier_factorizations = 0;  // of the run a restart continues
-  State committed;
-  const RunMemory* resume = options.resume ? &options.resume->run : nullptr;
-  if (resume) {
-    committed = options.resume->committed;
-    if (heat && resume->heat) heat->resume(*resume->heat);
-    eq.resume(committed, resume->equilibrium);
-    // The restart's factorization of the matrix the run had: in the summary's count, not in
-    // the next step's (whose history row is then the uninterrupted run's).
-    factorizations_before = eq.factorizations();
-    result.steps = resume->steps;
-    result.iterations = resume->iterations;
-    earlier_factorizations = resume->factorizations;
-  } else {
-    committed = eq.initial_state();
-  }
-  State trial = committed;
-  StepTargets targets(spec.times, committed.time,
-                      resume ? resume->pending : std::vector<StepTarget>());
-  auto factorizations = [&] { return earlier_factorizations + eq.factorizations(); };
-  // Checkpoints: at the steps the sink asks for, and at the last converged step of the run
-  // whatever ends it. The memory of a converged step whose checkpoint is not written yet is
-  // kept (a failed attempt after it changes the iteration's memory).
-  CheckpointSink* sink = options.checkpoints;
-  bool unwritten = false;
-  EquilibriumMemory unwritten_eq;
-  std::vector<StepTarget> unwritten_pending;
-  auto write_checkpoint = [&](EquilibriumMemory mem, std::vector<StepTarget> pending) {
-    RunMemory run;
-    run.equilibrium = std::move(mem);
-    if (heat) run.heat = heat->memory();
-    run.pending = std::move(pending);
-    run.steps = result.steps;
-    run.iterations = result.iterations;
-    run.factorizations = factorizations();
-    sink->write(committed, run);
-  };
-  auto stop = [&](AnalysisStatus status, std::string why) {
-    result.status = status;
-    result.factorizations = factorizations();
-    result.failure = std::move(why);
-    log.info("{}", result.failure);
-    if (sink && unwritten) {
-      try {
-        write_checkpoint(std::move(unwritten_eq), std::move(unwritten_pending));
-      } catch (const OutputError& e) {  // what was written before stays
-        log.warn(std::string("the checkpoint of the last converged step was not written: ") +
-                 e.what());
-      }
+/// One run of the step loop: the committed and the trial state, the result's counts, and the
+/// checkpoint of a converged step not written yet. run() takes the case's targets one at a time.
+class StepLoop {
+ public:
+  /// Starts from the restart of `options` (its state, the heat analysis's and the iteration's
+  /// memory, its counts), else from the equilibrium's initial state.
+  StepLoop(const Model& model, Equilibrium& eq, HeatSolver* heat, Log& log, Timings& timings,
+           StepObserver& observer, const RunOptions& options)
+      : model_(model),
+        eq_(eq),
+        heat_(heat),
+        log_(log),
+        timings_(timings),
+        observer_(observer),
+        sink_(options.checkpoints),
+        resume_(options.resume ? &options.resume->run : nullptr) {
+    if (resume_) {
+      committed_ = options.resume->committed;
+      if (heat_ && resume_->heat) heat_->resume(*resume_->heat);
+      eq_.resume(committed_, resume_->equilibrium);
+      // The restart's factorization of the matrix the run had: in the summary's count, not in
+      // the next step's (whose history row is then the uninterrupted run's).
+      factorizations_before_ = eq_.factorizations();
+      result_.steps = resume_->steps;
+      result_.iterations = resume_->iterations;
+      earlier_factorizations_ = resume_->factorizations;
+    } else {
+      committed_ = eq_.initial_state();
     }
-    return result;
-  };
-  while (!targets.empty()) {
+    trial_ = committed_;
+  }
+
+  AnalysisResult run() {
+    StepTargets targets(model_.spec().solver.times, committed_.time,
+                        resume_ ? resume_->pending : std::vector<StepTarget>());
+    while (!targets.empty())
+      if (std::optional<AnalysisResult> stopped = take_step(targets)) return *stopped;
+    return result_;
+  }
+
+ private:
+  /// The step to the front target: attempted, cut back when it fails, committed, its outputs
+  /// written. The result when the run stops there.
+  std::optional<AnalysisResult> take_step(StepTargets& targets) {
     const double t1 = targets.time();
     const int depth = targets.depth();
     StepOutcome out;
@@ -193,77 +172,158 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     try {
       if (par::any(interrupt_requested()))
         throw Interrupted(fmt::format("interrupted before the step to t = {:g}", t1));
-      ok = attempt(model, eq, committed, t1, trial, result.steps == 0, out, why);
+      ok = attempt(model_, eq_, committed_, t1, trial_, result_.steps == 0, out, why);
     } catch (const HeatDivergence& e) {  // the heat analysis cut its own steps back already
       return stop(AnalysisStatus::not_converged, e.what());
     } catch (const Interrupted& e) {
       return stop(AnalysisStatus::interrupted,
                   fmt::format("{} (SIGINT or SIGTERM); the last converged time is t = {:g}",
-                              e.what(), committed.time));
+                              e.what(), committed_.time));
     }
-    result.iterations += out.iterations;
+    result_.iterations += out.iterations;
     if (!ok) {
-      const double mid = 0.5 * (committed.time + t1);
-      if (depth < spec.cutback && mid > committed.time && mid < t1) {
-        log.info("step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
+      const double mid = 0.5 * (committed_.time + t1);
+      if (depth < model_.spec().solver.cutback && mid > committed_.time && mid < t1) {
+        log_.info("step to t = {:g} failed ({}); cutting back to t = {:g}", t1, why, mid);
         targets.cut_back(mid);
-        continue;
+        return std::nullopt;
       }
       return stop(
           AnalysisStatus::not_converged,
           fmt::format("step to t = {:g} did not converge after {} cut-backs: {}", t1, depth, why));
     }
     targets.reached();
-    std::swap(committed, trial);
-    if (heat) heat->committed(t1);
-    ++result.steps;
+    std::swap(committed_, trial_);
+    if (heat_) heat_->committed(t1);
+    const StepReport report = count_step(out, t1, targets.empty());
+    log_step(model_, eq_, report, committed_, log_);
+    return write_outputs(report, targets);
+  }
+
+  /// The report of the step just committed, counted in the result.
+  StepReport count_step(const StepOutcome& out, double t1, bool last) {
+    ++result_.steps;
     StepReport report;
-    report.step = result.steps;
+    report.step = result_.steps;
     report.time = t1;
     report.iterations = out.iterations;
     report.residual = out.residual;
     report.delta_sigma = out.delta_sigma;
     report.delta_eps = out.delta_eps;
-    report.factorizations = eq.factorizations() - factorizations_before;
+    report.factorizations = eq_.factorizations() - factorizations_before_;
     report.plastic_points = out.plastic_points;
-    report.last = targets.empty();
-    report.write_fields = report.last || report.step % model.spec().output.every == 0;
-    factorizations_before = eq.factorizations();
-    result.factorizations = factorizations();
-    log_step(model, eq, report, committed, log);
-    const auto t0 = std::chrono::steady_clock::now();
-    // An output that cannot be written (a full disk) stops the run as a step that fails does:
-    // what was written before stays (status 2). Root writes: every rank learns it.
+    report.last = last;
+    report.write_fields = report.last || report.step % model_.spec().output.every == 0;
+    factorizations_before_ = eq_.factorizations();
+    result_.factorizations = factorizations();
+    return report;
+  }
+
+  /// The observer's outputs of a converged step and its checkpoint (when due), timed into
+  /// Timings::output. An output that cannot be written (a full disk) stops the run as a step
+  /// that fails does: what was written before stays (status 2). Root writes: every rank
+  /// learns it.
+  std::optional<AnalysisResult> write_outputs(const StepReport& report,
+                                              const StepTargets& targets) {
     std::string output_failure;
-    try {
-      observer.step_done(report, committed, recover_fields(model, committed, report.write_fields));
-    } catch (const OutputError& e) {
-      output_failure = e.what();
-    }
-    if (sink) {
-      unwritten = !report.last && !sink->due(report);
-      if (unwritten) {
-        unwritten_eq = eq.memory();
-        unwritten_pending = targets.pending();
-      } else {
-        try {
-          write_checkpoint(eq.memory(), targets.pending());  // collective
-        } catch (const OutputError& e) {
-          if (output_failure.empty()) output_failure = e.what();
+    {
+      ScopedTimer timer(timings_.output);
+      try {
+        observer_.step_done(report, committed_,
+                            recover_fields(model_, committed_, report.write_fields));
+      } catch (const OutputError& e) {
+        output_failure = e.what();
+      }
+      if (sink_) {
+        unwritten_ = !report.last && !sink_->due(report);
+        if (unwritten_) {
+          unwritten_eq_ = eq_.memory();
+          unwritten_pending_ = targets.pending();
+        } else {
+          try {
+            write_checkpoint(eq_.memory(), targets.pending());  // collective
+          } catch (const OutputError& e) {
+            if (output_failure.empty()) output_failure = e.what();
+          }
         }
       }
     }
-    timings.output += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (par::any(!output_failure.empty())) {
-      unwritten = false;  // it would fail the same way
+      unwritten_ = false;  // it would fail the same way
       return stop(
           AnalysisStatus::not_converged,
           fmt::format("the outputs of step {} (t = {:g}) cannot be written: {}; what "
                       "was written before is kept",
-                      report.step, t1, output_failure.empty() ? "see rank 0" : output_failure));
+                      report.step, report.time,
+                      output_failure.empty() ? "see rank 0" : output_failure));
     }
+    return std::nullopt;
   }
-  return result;
+
+  int factorizations() const { return earlier_factorizations_ + eq_.factorizations(); }
+
+  void write_checkpoint(EquilibriumMemory mem, std::vector<StepTarget> pending) {
+    RunMemory run;
+    run.equilibrium = std::move(mem);
+    if (heat_) run.heat = heat_->memory();
+    run.pending = std::move(pending);
+    run.steps = result_.steps;
+    run.iterations = result_.iterations;
+    run.factorizations = factorizations();
+    sink_->write(committed_, run);
+  }
+
+  /// The result of a run that stops for `why`, after the checkpoint of its last converged step
+  /// if that is not written yet.
+  AnalysisResult stop(AnalysisStatus status, std::string why) {
+    result_.status = status;
+    result_.factorizations = factorizations();
+    result_.failure = std::move(why);
+    log_.info("{}", result_.failure);
+    if (sink_ && unwritten_) {
+      try {
+        write_checkpoint(std::move(unwritten_eq_), std::move(unwritten_pending_));
+      } catch (const OutputError& e) {  // what was written before stays
+        log_.warn(std::string("the checkpoint of the last converged step was not written: ") +
+                  e.what());
+      }
+    }
+    return result_;
+  }
+
+  const Model& model_;
+  Equilibrium& eq_;
+  HeatSolver* heat_;
+  Log& log_;
+  Timings& timings_;
+  StepObserver& observer_;
+  /// Checkpoints: at the steps the sink asks for, and at the last converged step of the run
+  /// whatever ends it.
+  CheckpointSink* sink_;
+  const RunMemory* resume_;
+  AnalysisResult result_;
+  int factorizations_before_ = 0;   ///< the factorizations of this process before the step
+  int earlier_factorizations_ = 0;  ///< of the run a restart continues
+  State committed_;
+  State trial_;
+  /// The memory of a converged step whose checkpoint is not written yet (a failed attempt
+  /// after it changes the iteration's memory).
+  bool unwritten_ = false;
+  EquilibriumMemory unwritten_eq_;
+  std::vector<StepTarget> unwritten_pending_;
+};
+
+}  // namespace
+
+AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, Timings& timings,
+                            StepObserver& observer, HeatSolver* heat, const RunOptions& options) {
+  std::unique_ptr<HeatSolver> own_heat;  // a caller that made none: on the case's own options
+  if (!heat && model.has_heat()) {
+    own_heat = make_heat_solver(model, log);
+    heat = own_heat.get();
+  }
+  Equilibrium eq(model, system, log, timings, heat);
+  return StepLoop(model, eq, heat, log, timings, observer, options).run();
 }
 
 }  // namespace hencky
