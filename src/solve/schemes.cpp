@@ -209,8 +209,7 @@ std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omeg
       return std::make_unique<VariableStiffness>(form == CurveForm::strain);
     case SchemeKind::initial_strain:
     case SchemeKind::initial_strain_stiffness:
-      return scheme_law::make_initial_strain(kind == SchemeKind::initial_strain_stiffness,
-                                             omega);
+      return scheme_law::make_initial_strain(kind == SchemeKind::initial_strain_stiffness, omega);
     case SchemeKind::initial_stress:
     case SchemeKind::initial_stress_stiffness:
       return scheme_law::make_initial_stress(kind == SchemeKind::initial_stress_stiffness);

@@ -250,12 +250,11 @@ class StepLoop {
     }
     if (par::any(!output_failure.empty())) {
       unwritten_ = false;  // it would fail the same way
-      return stop(
-          AnalysisStatus::not_converged,
-          fmt::format("the outputs of step {} (t = {:g}) cannot be written: {}; what "
-                      "was written before is kept",
-                      report.step, report.time,
-                      output_failure.empty() ? "see rank 0" : output_failure));
+      return stop(AnalysisStatus::not_converged,
+                  fmt::format("the outputs of step {} (t = {:g}) cannot be written: {}; what "
+                              "was written before is kept",
+                              report.step, report.time,
+                              output_failure.empty() ? "see rank 0" : output_failure));
     }
     return std::nullopt;
   }
