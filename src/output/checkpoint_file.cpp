@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/invariant.hpp"
 #include "parallel/mpi.hpp"
 
 static_assert(std::endian::native == std::endian::little,
@@ -221,16 +222,16 @@ void CheckpointFile::write_together(const std::string& path) const {
   std::size_t k = 0;
   for (const auto& [name, r] : records_) {
     if (!r.runs) continue;
-    if (8 * (k + 1) > value_at.size())
-      throw std::logic_error("CheckpointFile::write_together: the ranks' records differ");
+    HENCKY_VERIFY(8 * (k + 1) <= value_at.size(),
+                  "CheckpointFile::write_together: the ranks' records differ");
     const auto first = take<std::uint64_t>(value_at, 8 * k++);
     for (std::size_t i = 0, from = 0; i < r.run_start.size(); from += r.run_length[i++])
       pieces.push_back({first + 8 * static_cast<std::uint64_t>(r.run_start[i]),
                         {reinterpret_cast<const char*>(r.f64.data() + from),
                          8 * static_cast<std::size_t>(r.run_length[i])}});
   }
-  if (8 * k != value_at.size())
-    throw std::logic_error("CheckpointFile::write_together: the ranks' records differ");
+  HENCKY_VERIFY(8 * k == value_at.size(),
+                "CheckpointFile::write_together: the ranks' records differ");
   std::sort(pieces.begin(), pieces.end(),
             [](const par::FilePiece& a, const par::FilePiece& b) { return a.offset < b.offset; });
   if (const std::string error = par::write_file_together(path, pieces); !error.empty())
@@ -325,8 +326,7 @@ void CheckpointFile::payload(const std::function<void(std::string_view)>& piece)
 }
 
 void CheckpointFile::write(const std::function<void(std::string_view)>& sink) const {
-  if (distributed())
-    throw std::logic_error("CheckpointFile::write: a distributed record needs write_together");
+  HENCKY_VERIFY(!distributed(), "CheckpointFile::write: a distributed record needs write_together");
   // Two passes over the records: the size and the checksum for the header, then the bytes.
   std::uint64_t size = 0;
   std::uint32_t crc = 0;
