@@ -31,6 +31,7 @@
 #include "linalg/blas_kernels.hpp"
 #include "output/checkpoint.hpp"
 #include "output/results.hpp"
+#include "output/summary.hpp"
 #include "parallel/mesh_part.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/partition.hpp"
@@ -134,14 +135,6 @@ int together(F&& f) {
 fs::path command_line_dir(const std::string& out_dir) {
   fs::path p = fs::absolute(out_dir).lexically_normal();
   return p.has_filename() ? p : p.parent_path();
-}
-
-/// Peak resident memory of this process and, in a parallel run, the largest and the total
-/// over the ranks (collective).
-void add_memory(nlohmann::json& summary) {
-  const long long mine = peak_memory_bytes();
-  summary["peak_memory_bytes"] = par::max(mine);
-  if (par::size() > 1) summary["peak_memory_bytes_all_ranks"] = par::sum(mine);
 }
 
 /// --restart DIR [--from T]: the checkpoint to continue from, read on every rank (each its part
@@ -463,74 +456,39 @@ int run(const std::string& case_path, const std::string& out_dir, bool quiet,
     if (writer) writer->abandon();  // bad input: nothing is overwritten or left behind
     throw;
   }
-  nlohmann::json summary;
-  add_memory(summary);
+  // Peak resident memory of this process and, in a parallel run, the largest and the total
+  // over the ranks (collective).
+  RunFigures figures;
+  const long long memory = peak_memory_bytes();
+  figures.peak_memory_bytes = par::max(memory);
+  if (par::size() > 1) figures.peak_memory_bytes_all_ranks = par::sum(memory);
   const int status = result.status == AnalysisStatus::converged     ? 0
                      : result.status == AnalysisStatus::interrupted ? 4
                                                                     : 2;
   if (!par::root()) return status;
-  const auto& st = solver->stats();
-  summary["hencky"] = HENCKY_VERSION;
-  summary["title"] = c.title;
-  summary["status"] = status == 0 ? "converged" : status == 4 ? "interrupted" : "not-converged";
+  figures.title = c.title;
+  figures.status = status;
   if (resume)
-    summary["restart"] = {{"from", restart_dir.string()},
-                          {"step", resume->run.steps},
-                          {"time", resume->committed.time}};
-  if (checkpoints) summary["checkpoints"] = checkpoints->written();
-  if (!result.failure.empty()) summary["failure"] = result.failure;
-  summary["steps"] = result.steps;
-  summary["iterations"] = result.iterations;
-  summary["factorizations"] = result.factorizations;
-  summary["scheme"] = scheme_name(c.solver.scheme);
-  summary["dofs"] = model.global_free();
-  summary["nodes"] = model.global_nodes();
-  summary["elements"] = model.global_cells();
-  summary["integration_points"] = model.total_points();
-  summary["threads"] = omp_get_max_threads();
-  summary["ranks"] = par::size();
-  summary["linear_solver"] = {{"method", st.description},
-                              {"analyses", st.n_analyses},
-                              {"factorizations", st.n_factorizations},
-                              {"solves", st.n_solves},
-                              {"factor_flops", st.factor_flops},
-                              {"factor_nonzeros", st.factor_nnz},
-                              {"matrix_nonzeros", st.matrix_nnz},
-                              {"iterations", st.iterations}};
-  if (const BlasKernels k = blas_kernels(); !k.chosen.empty())
-    summary["linear_solver"]["blas_kernels"] = k.chosen;  // OpenBLAS's, after any restart
-  if (st.n_factorizations > 0 && timings.factorization > 0)
-    summary["linear_solver"]["factor_gflops_per_second"] =
-        st.factor_flops * st.n_factorizations / timings.factorization * 1e-9;
-  summary["warnings"] = log.warnings();
-  for (auto& [k, v] : writer->final_values().items()) summary[k] = v;
-  summary["wall_seconds"] = {
-      {"mesh", l.mesh_seconds},       {"setup", l.setup_seconds},
-      {"assembly", timings.assembly}, {"factorization", timings.factorization},
-      {"solve", timings.solve},       {"material", timings.material},
-      {"output", timings.output},     {"contact", timings.contact},
-      {"heat", timings.heat},         {"total", since(t_start)}};
-  if (heat) {
-    const auto& hs = heat->stats();
-    summary["heat"] = {{"steps", heat->steps()},
-                       {"iterations", heat->iterations()},
-                       {"linear_solver",
-                        {{"method", hs.description},
-                         {"factorizations", hs.n_factorizations},
-                         {"solves", hs.n_solves},
-                         {"iterations", hs.iterations}}}};
-  }
-  // The short report a user reads first (issue 22): the largest values and where, the balance
-  // of reactions and loads, the contact forces and the time per phase.
-  summary["report"] = writer->report();
-  for (const std::string& line : writer->report_lines()) log.info("report: {}", line);
-  std::string phases;
-  for (const char* k : {"mesh", "setup", "assembly", "factorization", "solve", "material",
-                        "contact", "heat", "output"})
-    if (const double s = summary["wall_seconds"][k]; s >= 0.005)
-      phases += fmt::format("{}{} {:.2f}", phases.empty() ? "" : ", ", k, s);
-  log.info("report: time (s): {}", phases);
-  writer->finish(summary);
+    figures.restart =
+        RunFigures::From{restart_dir.string(), resume->run.steps, resume->committed.time};
+  if (checkpoints) figures.checkpoints = checkpoints->written();
+  figures.result = result;
+  figures.scheme = scheme_name(c.solver.scheme);
+  figures.dofs = model.global_free();
+  figures.nodes = model.global_nodes();
+  figures.elements = model.global_cells();
+  figures.integration_points = model.total_points();
+  figures.threads = omp_get_max_threads();
+  figures.ranks = par::size();
+  figures.linear_solver = solver->stats();
+  figures.blas_kernels = blas_kernels().chosen;  // OpenBLAS's, after any restart
+  figures.warnings = log.warnings();
+  figures.mesh_seconds = l.mesh_seconds;
+  figures.setup_seconds = l.setup_seconds;
+  figures.timings = timings;
+  if (heat) figures.heat = RunFigures::Heat{heat->steps(), heat->iterations(), heat->stats()};
+  figures.total_seconds = since(t_start);
+  finish_results(*writer, figures, log);
   log.info("{} in {:.2f} s ({} steps, {} iterations); results in {}",
            status == 0   ? "converged"
            : status == 4 ? "interrupted"
