@@ -2,6 +2,12 @@
 // The analysis model: the validated case bound to the mesh. Everything here is checked
 // against the mesh once (regions, materials, element shapes, probes, temperature nodes) so
 // that the step loop meets no input error.
+//
+// Model's definitions: model.cpp (construction, materials, cells, probes and reactions, the
+// points each rank holds), model_loads.cpp (displacement, load and heat conditions; the loads
+// at a time), model_temperature.cpp (temperatures and their range checks), model_contact.cpp
+// (contact surfaces and points) and model_join.cpp (a part model joined with the other ranks,
+// the cells the ranks agree on).
 #include <array>
 #include <cstdint>
 #include <memory>
