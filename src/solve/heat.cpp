@@ -13,6 +13,7 @@
 #include "fem/geometry.hpp"
 #include "fem/quadrature.hpp"
 #include "fem/reference_element.hpp"
+#include "linalg/gmres.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/nodal_layout.hpp"
 
@@ -493,8 +494,8 @@ bool HeatSolver::solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, st
       system_->solve(rhs, dT);
       // The whole Newton step, to a relative residual that falls with G's (quadratic
       // convergence) but need not go below a tenth of the tolerance.
-      if (nonsymmetric_ &&
-          !gmres(to.T, from, t1, rhs, dT, std::clamp(0.1 * r, 0.1 * spec_.tolerance, 1e-2))) {
+      if (nonsymmetric_ && !full_newton_step(to.T, from, t1, rhs, dT,
+                                             std::clamp(0.1 * r, 0.1 * spec_.tolerance, 1e-2))) {
         why = "the Newton step's linear solve (GMRES) did not converge";
         return false;
       }
@@ -588,90 +589,35 @@ void HeatSolver::jacobian_times(const std::vector<double>& T, const HeatSnapshot
   model_.layout().sum(out, 1);
 }
 
-bool HeatSolver::gmres(const std::vector<double>& T, const HeatSnapshot& from, double t1,
-                       const std::vector<double>& b, std::vector<double>& x, double rtol) {
-  // Right-preconditioned GMRES (Saad, Iterative Methods for Sparse Linear Systems, 9.3.2) on
-  // dG/dT P⁻¹ y = b, x = x0 + P⁻¹ y, from x0 = P⁻¹ b (the step of the symmetric part): the
-  // preconditioned operator is the identity plus what P leaves out, so that a few iterations
-  // do. The preconditioned vectors z_j are kept (m of them), which saves solving again.
+bool HeatSolver::full_newton_step(const std::vector<double>& T, const HeatSnapshot& from,
+                                  double t1, const std::vector<double>& b, std::vector<double>& x,
+                                  double rtol) {
+  // GMRES on dG/dT P⁻¹ y = b, x = x0 + P⁻¹ y, from x0 = P⁻¹ b (the step of the symmetric
+  // part): the preconditioned operator is the identity plus what P leaves out, so that a few
+  // iterations do.
   const auto& eq = model_.heat_dofs().eq;
-  const std::size_t nf = b.size(), nn = eq.size();
-  constexpr int m = 30;
+  const std::size_t nn = eq.size();
   std::vector<double> full(nn), Jv(nn);
-  auto apply = [&](const std::vector<double>& z, std::vector<double>& out) {  // out = J z
+  const LinearOperator apply = [&](const std::vector<double>& z, std::vector<double>& out) {
     for (std::size_t i = 0; i < nn; ++i) full[i] = eq[i] >= 0 ? z[eq[i]] : 0.0;
     jacobian_times(T, from, t1, full, Jv);
-    out.resize(nf);
     for (std::size_t i = 0; i < nn; ++i)
       if (eq[i] >= 0) out[eq[i]] = Jv[i];
+  };
+  const LinearOperator precondition = [&](const std::vector<double>& v, std::vector<double>& z) {
+    system_->solve(v, z);
   };
   // Over this rank's own free dofs (their prefix), summed over the ranks of a distributed
   // mesh; a replicated mesh's vectors are whole on every rank.
   const std::size_t own_free = static_cast<std::size_t>(model_.layout().owned_free(eq, 1));
-  auto dot = [&](const std::vector<double>& u, const std::vector<double>& w) {
+  const InnerProduct dot = [&](const std::vector<double>& u, const std::vector<double>& w) {
     return model_.layout().dot(u, w, own_free);
   };
-  const double b_norm = std::sqrt(dot(b, b));
-  if (!(b_norm > 0)) return true;
-  std::vector<double> r;
-  apply(x, r);
-  for (std::size_t i = 0; i < nf; ++i) r[i] = b[i] - r[i];
-  for (int restart = 0; restart < 3; ++restart) {
-    const double beta = std::sqrt(dot(r, r));
-    if (beta <= rtol * b_norm) return true;
-    std::vector<std::vector<double>> V(1, r), Z;
-    for (double& v : V[0]) v /= beta;
-    std::vector<std::vector<double>> H(m + 1, std::vector<double>(m, 0.0));
-    std::vector<double> cs(m), sn(m), g(m + 1, 0.0);
-    g[0] = beta;
-    int j = 0;
-    for (; j < m; ++j) {
-      Z.emplace_back(nf);
-      system_->solve(V[j], Z[j]);
-      std::vector<double> w;
-      apply(Z[j], w);
-      ++gmres_iterations_;
-      for (int i = 0; i <= j; ++i) {  // modified Gram–Schmidt
-        H[i][j] = dot(w, V[i]);
-        for (std::size_t k = 0; k < nf; ++k) w[k] -= H[i][j] * V[i][k];
-      }
-      H[j + 1][j] = std::sqrt(dot(w, w));
-      for (int i = 0; i < j; ++i) {  // the earlier rotations on the new column
-        const double a = H[i][j], c = H[i + 1][j];
-        H[i][j] = cs[i] * a + sn[i] * c;
-        H[i + 1][j] = -sn[i] * a + cs[i] * c;
-      }
-      const double d = std::hypot(H[j][j], H[j + 1][j]);
-      cs[j] = H[j][j] / d;
-      sn[j] = H[j + 1][j] / d;
-      H[j][j] = d;
-      H[j + 1][j] = 0;
-      g[j + 1] = -sn[j] * g[j];
-      g[j] = cs[j] * g[j];
-      const bool done = std::abs(g[j + 1]) <= rtol * b_norm;
-      if (!done && j + 1 < m) {  // the next basis vector
-        V.emplace_back(w);
-        const double hn = std::sqrt(dot(w, w));
-        if (hn > 0)
-          for (double& v : V.back()) v /= hn;
-      }
-      if (done) {
-        ++j;
-        break;
-      }
-    }
-    std::vector<double> y(j);
-    for (int i = j - 1; i >= 0; --i) {
-      double s = g[i];
-      for (int k = i + 1; k < j; ++k) s -= H[i][k] * y[k];
-      y[i] = s / H[i][i];
-    }
-    for (int i = 0; i < j; ++i)
-      for (std::size_t k = 0; k < nf; ++k) x[k] += y[i] * Z[i][k];
-    apply(x, r);
-    for (std::size_t i = 0; i < nf; ++i) r[i] = b[i] - r[i];
-  }
-  return std::sqrt(dot(r, r)) <= rtol * b_norm;
+  GmresOptions options;
+  options.rtol = rtol;
+  options.restart = 30;
+  options.max_cycles = 3;
+  return gmres(apply, precondition, dot, b, x, options, gmres_iterations_);
 }
 
 void HeatSolver::advance(double target) {

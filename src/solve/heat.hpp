@@ -126,10 +126,11 @@ class HeatSolver {
   /// out = dG/dT v at T (v and out per node, v zero at prescribed nodes). Collective.
   void jacobian_times(const std::vector<double>& T, const HeatSnapshot& from, double t1,
                       const std::vector<double>& v, std::vector<double>& out);
-  /// The Newton step x of dG/dT x = b (free dofs) by right-preconditioned GMRES, from x = P⁻¹ b
-  /// (P the factorized symmetric part), to the relative residual rtol; false when it stalls.
-  bool gmres(const std::vector<double>& T, const HeatSnapshot& from, double t1,
-             const std::vector<double>& b, std::vector<double>& x, double rtol);
+  /// The Newton step x of dG/dT x = b (free dofs) by right-preconditioned GMRES
+  /// (linalg/gmres.hpp), from x = P⁻¹ b (P the factorized symmetric part), to the relative
+  /// residual rtol; false when it stalls.
+  bool full_newton_step(const std::vector<double>& T, const HeatSnapshot& from, double t1,
+                        const std::vector<double>& b, std::vector<double>& x, double rtol);
   void fixed_temperatures(double t, std::vector<double>& T) const;
 
   const Model& model_;
