@@ -74,6 +74,9 @@ struct HeatMemory {
   int steps = 0, iterations = 0, gmres_iterations = 0;
 };
 
+/// The case's expressions of the heat section, one copy per thread (solve/heat_terms.hpp).
+struct HeatExpressions;
+
 class HeatSolver {
  public:
   /// The linear system of the temperature dofs (the same back end as the mechanical one).
@@ -101,22 +104,24 @@ class HeatSolver {
   /// Continues from the memory of the run that wrote a checkpoint (a restart).
   void resume(HeatMemory mem);
 
-  int steps() const { return steps_; }
-  int iterations() const { return iterations_; }
+  int steps() const { return mem_.steps; }
+  int iterations() const { return mem_.iterations; }
   /// GMRES iterations of the Newton steps with k(T) or Q(T) (0 when there are none).
-  int gmres_iterations() const { return gmres_iterations_; }
+  int gmres_iterations() const { return mem_.gmres_iterations; }
   double seconds() const { return seconds_; }
   const LinearSolverStats& stats() const { return system_->stats(); }
 
  private:
   struct Evaluation;
-  struct PointExpressions;
   void start();
   /// G, its scale and (when `matrix`) the system matrix at T for the step from `from` to t1.
   void evaluate(const std::vector<double>& T, const HeatSnapshot& from, double t1, bool matrix,
                 Evaluation& ev);
   /// One Newton solve to t1 from `from`; false when it does not converge (`why` says why).
   bool solve(const HeatSnapshot& from, double t1, HeatSnapshot& to, std::string& why);
+  /// The converged step's flows, reactions and energies into `to`, from the residual at its
+  /// temperatures.
+  void step_flows(const HeatSnapshot& from, const Evaluation& ev, HeatSnapshot& to) const;
   /// Takes the next step (with cut-backs) toward `target`.
   void advance(double target);
   void natural_flows(const std::vector<double>& T, double t, std::vector<double>& q) const;
@@ -137,20 +142,18 @@ class HeatSolver {
   const HeatSpec& spec_;
   Log& log_;
   std::unique_ptr<LinearSystem> system_;
-  std::vector<HeatCapacity> capacity_;         ///< per material (transient)
-  std::vector<PointExpressions> expressions_;  ///< one copy per thread
-  std::deque<HeatSnapshot> snapshots_;         ///< times increasing, the last is the newest
-  std::vector<double> R_last_, S_last_;        ///< R and its scale at the newest snapshot
-  std::size_t next_target_ = 0;                ///< own steps (heat.times): the next one
-  bool linear_ = false;        ///< the matrix depends on neither T nor t (only on Δt)
-  bool nonsymmetric_ = false;  ///< dG/dT has terms the factorized matrix leaves out
-  double theta_ = 1.0;         ///< θ of the step being taken (1 in the start of θ < 1)
-  double committed_ = 0;       ///< the mechanical analysis's last converged time
-  int gmres_iterations_ = 0;
-  int last_iterations_ = 0;  ///< of the last converged solve, for its log line
+  std::vector<HeatCapacity> capacity_;        ///< per material (transient)
+  std::vector<HeatExpressions> expressions_;  ///< one copy per thread
+  /// The snapshots (times increasing, the last the newest), R at the newest, the last
+  /// committed time and the counts: what a checkpoint keeps (memory(), resume()).
+  HeatMemory mem_;
+  std::size_t next_target_ = 0;  ///< own steps (heat.times): the next one
+  bool linear_ = false;          ///< the matrix depends on neither T nor t (only on Δt)
+  bool nonsymmetric_ = false;    ///< dG/dT has terms the factorized matrix leaves out
+  double theta_ = 1.0;           ///< θ of the step being taken (1 in the start of θ < 1)
+  int last_iterations_ = 0;      ///< of the last converged solve, for its log line
   double last_residual_ = 0;
   double factored_dt_ = -1;  ///< Δt(2 − θ) of the factorized matrix when linear_ (0: steady)
-  int steps_ = 0, iterations_ = 0;
   double seconds_ = 0;
 };
 
