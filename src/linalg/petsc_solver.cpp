@@ -18,7 +18,7 @@ using par::check_petsc;
 
 /// The option names of a PETSc option string ("-ksp_type cg -ksp_rtol 1e-8" → -ksp_type,
 /// -ksp_rtol).
-std::vector<std::string> option_names(const std::string& options) {
+std::vector<std::string> petsc_option_names(const std::string& options) {
   std::vector<std::string> names;
   std::istringstream in(options);
   std::string word;
@@ -108,20 +108,22 @@ struct PetscSolver::Impl {
   PetscInt position(PetscInt r, PetscInt c) const {
     return static_cast<PetscInt>(std::lower_bound(col + row_ptr[r], col + row_ptr[r + 1], c) - col);
   }
+
+  // The constructor's steps, in its order.
+  void add_options(const std::string& options);
+  void number_rows(const Partition& partition, const std::optional<PetscPart>& part);
+  void create_matrix(const Partition& partition, const std::optional<PetscPart>& part);
+  void preallocate_blocks(const Partition& partition, const std::optional<PetscPart>& part);
+  void set_rigid_body_modes();
+  std::string create_ksp(PetscPreset preset, const std::string& options, double tolerance);
 };
 
-PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
-                         Partition partition, PetscPreset preset, const std::string& options,
-                         double tolerance, std::optional<PetscPart> part)
-    : impl_(std::make_unique<Impl>()),
-      assembler_(assembler),
-      partition_(std::move(partition)),
-      part_(part) {
-  par::ensure_petsc();
-  Impl& s = *impl_;
+/// Puts the options in force, and the GAMG defaults hencky prefers where they were not given;
+/// keeps the names, to clear them when the solver goes.
+void PetscSolver::Impl::add_options(const std::string& options) {
   par::add_petsc_options(options);
-  s.option_names = option_names(options);
-  s.given_options = s.option_names.size();
+  option_names = petsc_option_names(options);
+  given_options = option_names.size();
   // GAMG (preset or chosen by an option): Chebyshev smoothing needs an upper bound of each
   // level's spectrum. GAMG's own estimate (from its prolongator smoothing) fell short on a
   // contact problem (CG stopped on DIVERGED_INDEFINITE_PC once the contact had released); a CG
@@ -133,159 +135,197 @@ PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& 
     check_petsc(PetscOptionsHasName(nullptr, nullptr, name, &given), "PetscOptionsHasName");
     if (given) continue;
     check_petsc(PetscOptionsSetValue(nullptr, name, value), "PetscOptionsSetValue");
-    s.option_names.push_back(name);
+    option_names.push_back(name);
   }
-  s.mesh = &mesh;
-  s.dofs = &dofs;
-  s.k = dofs.per_node;
-  const int k = s.k;
-  const int n_nodes = mesh.n_nodes(), parts = partition_.parts, me = partition_.rank;
-  // Rows by rank, then by the node's own order within the rank.
-  s.first_row.resize(n_nodes);
-  if (part_) {
+}
+
+/// first_row and owned: rows by rank, then by the node's own order within the rank.
+void PetscSolver::Impl::number_rows(const Partition& partition,
+                                    const std::optional<PetscPart>& part) {
+  const int n_nodes = mesh->n_nodes(), parts = partition.parts, me = partition.rank;
+  first_row.resize(n_nodes);
+  if (part) {
     // A part: its own nodes are its first ones; a ghost's rows are its owner's numbering of
     // it, after the nodes of the ranks before that owner.
-    const MeshPart& p = part_->part;
+    const MeshPart& p = part->part;
     const std::vector<long long> before = par::rank_offsets(p.owned_nodes);
     for (int n = 0; n < n_nodes; ++n)
-      s.first_row[n] = k * static_cast<PetscInt>(before[p.node_owner[n]] + p.owner_index[n]);
-    for (int n = 0; n < p.owned_nodes; ++n) s.owned.push_back(n);
+      first_row[n] = k * static_cast<PetscInt>(before[p.node_owner[n]] + p.owner_index[n]);
+    for (int n = 0; n < p.owned_nodes; ++n) owned.push_back(n);
   } else {
     std::vector<PetscInt> count(parts + 1, 0);
-    for (int n = 0; n < n_nodes; ++n) ++count[partition_.node_owner[n] + 1];
+    for (int n = 0; n < n_nodes; ++n) ++count[partition.node_owner[n] + 1];
     for (int r = 0; r < parts; ++r) count[r + 1] += count[r];
     for (int n = 0; n < n_nodes; ++n) {
-      const int r = partition_.node_owner[n];
-      s.first_row[n] = k * count[r]++;
-      if (r == me) s.owned.push_back(n);
+      const int r = partition.node_owner[n];
+      first_row[n] = k * count[r]++;
+      if (r == me) owned.push_back(n);
     }
   }
-  const PetscInt n_local = k * static_cast<PetscInt>(s.owned.size());
+}
 
-  check_petsc(MatCreate(PETSC_COMM_WORLD, &s.A), "MatCreate");
-  check_petsc(MatSetSizes(s.A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
-  check_petsc(MatSetBlockSize(s.A, k), "MatSetBlockSize");
-  if (parts == 1) {
+/// A, preallocated, and the vectors of its rows.
+void PetscSolver::Impl::create_matrix(const Partition& partition,
+                                      const std::optional<PetscPart>& part) {
+  const PetscInt n_local = k * static_cast<PetscInt>(owned.size());
+  check_petsc(MatCreate(PETSC_COMM_WORLD, &A), "MatCreate");
+  check_petsc(MatSetSizes(A, n_local, n_local, PETSC_DETERMINE, PETSC_DETERMINE), "MatSetSizes");
+  check_petsc(MatSetBlockSize(A, k), "MatSetBlockSize");
+  if (partition.parts == 1) {
     // The exact pattern: a free dof couples to the free dofs of its node's neighbours, a
     // prescribed one to itself (its identity row); PETSc keeps it as given (columns sorted).
-    check_petsc(MatSetType(s.A, MATSEQAIJ), "MatSetType");
+    check_petsc(MatSetType(A, MATSEQAIJ), "MatSetType");
     std::vector<PetscInt> row_ptr, col;
-    s.local_pattern(row_ptr, col);
-    check_petsc(MatSeqAIJSetPreallocationCSR(s.A, row_ptr.data(), col.data(), nullptr),
+    local_pattern(row_ptr, col);
+    check_petsc(MatSeqAIJSetPreallocationCSR(A, row_ptr.data(), col.data(), nullptr),
                 "matrix preallocation");
-    s.local = true;
+    local = true;
   } else {
-    // Preallocation per block row: the nodes coupled to each owned node through its cells.
-    std::vector<int> ptr, idx;
-    node_cell_incidence(mesh.cells, n_nodes, ptr, idx);
-    std::vector<PetscInt> d_nnz(s.owned.size()), o_nnz(s.owned.size());
-    std::vector<int> seen(n_nodes, -1);
-    if (part_) {
-      // A part sees a node's couplings through its own cells only: each rank counts those of
-      // its copy of every node (columns of the row's owner in the diagonal block), and the
-      // owner adds the copies' counts up. A coupling two ranks' cells share is counted by
-      // both: the preallocation may exceed the row, never fall short.
-      std::vector<double> counts(2 * static_cast<std::size_t>(n_nodes), 0.0);
-      for (int n = 0; n < n_nodes; ++n) {
-        const int owner = part_->part.node_owner[n];
-        for (int c = ptr[n]; c < ptr[n + 1]; ++c)
-          for (int m : mesh.cells.nodes(idx[c])) {
-            if (seen[m] == n) continue;
-            seen[m] = n;
-            counts[2 * n + (part_->part.node_owner[m] == owner ? 0 : 1)] += 1;
-          }
-      }
-      part_->exchange.sum(counts, 2);
-      const PetscInt own_blocks = static_cast<PetscInt>(s.owned.size());
-      PetscInt all_blocks = own_blocks;
-      {
-        double total = static_cast<double>(own_blocks);
-        par::sum_in_place(std::span<double>(&total, 1));
-        all_blocks = static_cast<PetscInt>(total);
-      }
-      for (std::size_t l = 0; l < s.owned.size(); ++l) {
-        d_nnz[l] = std::clamp<PetscInt>(static_cast<PetscInt>(counts[2 * l]), 1, own_blocks);
-        o_nnz[l] =
-            std::min<PetscInt>(static_cast<PetscInt>(counts[2 * l + 1]), all_blocks - own_blocks);
-      }
-    } else {
-      for (std::size_t l = 0; l < s.owned.size(); ++l) {
-        const int n = s.owned[l];
-        PetscInt d = 0, o = 0;
-        for (int k = ptr[n]; k < ptr[n + 1]; ++k)
-          for (int m : mesh.cells.nodes(idx[k])) {
-            if (seen[m] == static_cast<int>(l)) continue;
-            seen[m] = static_cast<int>(l);
-            (partition_.node_owner[m] == me ? d : o) += 1;
-          }
-        d_nnz[l] = std::max<PetscInt>(d, 1);
-        o_nnz[l] = o;
-      }
-    }
-    check_petsc(MatSetType(s.A, MATAIJ), "MatSetType");
-    check_petsc(MatXAIJSetPreallocation(s.A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
-                "matrix preallocation");
+    preallocate_blocks(partition, part);
   }
-  check_petsc(MatSetOption(s.A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
-  check_petsc(MatSetOption(s.A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
-  check_petsc(MatSetOption(s.A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
-  check_petsc(MatCreateVecs(s.A, &s.x, &s.b), "MatCreateVecs");
-  check_petsc(VecDuplicate(s.b, &s.r), "VecDuplicate");
+  check_petsc(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatSetOption(A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
+  check_petsc(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+  check_petsc(VecDuplicate(b, &r), "VecDuplicate");
   // A replicated mesh takes the whole solution on every rank; a part, its own nodes' and its
   // ghosts' through the exchange (solve).
-  if (!part_) check_petsc(VecScatterCreateToAll(s.x, &s.to_all, &s.x_all), "VecScatterCreateToAll");
+  if (!part) check_petsc(VecScatterCreateToAll(x, &to_all, &x_all), "VecScatterCreateToAll");
+}
 
-  // Near null space of the displacement: the six rigid-body modes of the owned nodes'
-  // coordinates (a scalar field's, the constants, is GAMG's default).
-  if (k == 3) {
-    Vec coords = nullptr;
-    check_petsc(VecDuplicate(s.x, &coords), "VecDuplicate");
-    check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
-    PetscScalar* c = nullptr;
-    check_petsc(VecGetArray(coords, &c), "VecGetArray");
-    for (std::size_t l = 0; l < s.owned.size(); ++l)
-      for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh.x[s.owned[l]][d];
-    check_petsc(VecRestoreArray(coords, &c), "VecRestoreArray");
-    MatNullSpace rigid = nullptr;
-    check_petsc(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
-    check_petsc(MatSetNearNullSpace(s.A, rigid), "MatSetNearNullSpace");
-    MatNullSpaceDestroy(&rigid);
-    VecDestroy(&coords);
+/// Several processes: A as MATAIJ, preallocated per block row with the nodes coupled to each
+/// owned node through its cells.
+void PetscSolver::Impl::preallocate_blocks(const Partition& partition,
+                                           const std::optional<PetscPart>& part) {
+  const int n_nodes = mesh->n_nodes(), me = partition.rank;
+  std::vector<int> ptr, idx;
+  node_cell_incidence(mesh->cells, n_nodes, ptr, idx);
+  std::vector<PetscInt> d_nnz(owned.size()), o_nnz(owned.size());
+  std::vector<int> seen(n_nodes, -1);
+  if (part) {
+    // A part sees a node's couplings through its own cells only: each rank counts those of
+    // its copy of every node (columns of the row's owner in the diagonal block), and the
+    // owner adds the copies' counts up. A coupling two ranks' cells share is counted by
+    // both: the preallocation may exceed the row, never fall short.
+    std::vector<double> counts(2 * static_cast<std::size_t>(n_nodes), 0.0);
+    for (int n = 0; n < n_nodes; ++n) {
+      const int owner = part->part.node_owner[n];
+      for (int c = ptr[n]; c < ptr[n + 1]; ++c)
+        for (int m : mesh->cells.nodes(idx[c])) {
+          if (seen[m] == n) continue;
+          seen[m] = n;
+          counts[2 * n + (part->part.node_owner[m] == owner ? 0 : 1)] += 1;
+        }
+    }
+    part->exchange.sum(counts, 2);
+    const PetscInt own_blocks = static_cast<PetscInt>(owned.size());
+    PetscInt all_blocks = own_blocks;
+    {
+      double total = static_cast<double>(own_blocks);
+      par::sum_in_place(std::span<double>(&total, 1));
+      all_blocks = static_cast<PetscInt>(total);
+    }
+    for (std::size_t l = 0; l < owned.size(); ++l) {
+      d_nnz[l] = std::clamp<PetscInt>(static_cast<PetscInt>(counts[2 * l]), 1, own_blocks);
+      o_nnz[l] =
+          std::min<PetscInt>(static_cast<PetscInt>(counts[2 * l + 1]), all_blocks - own_blocks);
+    }
+  } else {
+    for (std::size_t l = 0; l < owned.size(); ++l) {
+      const int n = owned[l];
+      PetscInt d = 0, o = 0;
+      for (int c = ptr[n]; c < ptr[n + 1]; ++c)
+        for (int m : mesh->cells.nodes(idx[c])) {
+          if (seen[m] == static_cast<int>(l)) continue;
+          seen[m] = static_cast<int>(l);
+          (partition.node_owner[m] == me ? d : o) += 1;
+        }
+      d_nnz[l] = std::max<PetscInt>(d, 1);
+      o_nnz[l] = o;
+    }
   }
+  check_petsc(MatSetType(A, MATAIJ), "MatSetType");
+  check_petsc(MatXAIJSetPreallocation(A, k, d_nnz.data(), o_nnz.data(), nullptr, nullptr),
+              "matrix preallocation");
+}
 
-  check_petsc(KSPCreate(PETSC_COMM_WORLD, &s.ksp), "KSPCreate");
+/// Near null space of the displacement: the six rigid-body modes of the owned nodes'
+/// coordinates (a scalar field's, the constants, is GAMG's default).
+void PetscSolver::Impl::set_rigid_body_modes() {
+  Vec coords = nullptr;
+  check_petsc(VecDuplicate(x, &coords), "VecDuplicate");
+  check_petsc(VecSetBlockSize(coords, 3), "VecSetBlockSize");
+  PetscScalar* c = nullptr;
+  check_petsc(VecGetArray(coords, &c), "VecGetArray");
+  for (std::size_t l = 0; l < owned.size(); ++l)
+    for (int d = 0; d < 3; ++d) c[3 * l + d] = mesh->x[owned[l]][d];
+  check_petsc(VecRestoreArray(coords, &c), "VecRestoreArray");
+  MatNullSpace rigid = nullptr;
+  check_petsc(MatNullSpaceCreateRigidBody(coords, &rigid), "MatNullSpaceCreateRigidBody");
+  check_petsc(MatSetNearNullSpace(A, rigid), "MatSetNearNullSpace");
+  MatNullSpaceDestroy(&rigid);
+  VecDestroy(&coords);
+}
+
+/// The KSP of the preset with the options in force; returns the method it ended up with
+/// ("PETSc cg + gamg"). std::invalid_argument when PETSc refuses the options.
+std::string PetscSolver::Impl::create_ksp(PetscPreset preset, const std::string& options,
+                                          double tolerance) {
+  check_petsc(KSPCreate(PETSC_COMM_WORLD, &ksp), "KSPCreate");
   PC pc = nullptr;
-  check_petsc(KSPGetPC(s.ksp, &pc), "KSPGetPC");
+  check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
   if (preset == PetscPreset::gamg) {
-    check_petsc(KSPSetType(s.ksp, KSPCG), "KSPSetType");
+    check_petsc(KSPSetType(ksp, KSPCG), "KSPSetType");
     check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
     // CG stops on the true residual ‖b − Ax‖ (PETSc's default for CG is the preconditioned
     // one): the step loop's tolerance for a solve (set_relative_tolerance) is a fraction of
     // the true residual, and the preconditioned norm can differ from it by orders.
-    check_petsc(KSPSetNormType(s.ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+    check_petsc(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
   } else {
-    check_petsc(KSPSetType(s.ksp, KSPPREONLY), "KSPSetType");
+    check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
     check_petsc(PCSetType(pc, PCCHOLESKY), "PCSetType");
     check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
   }
-  check_petsc(KSPSetTolerances(s.ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
-        "KSPSetTolerances");
-  if (const PetscErrorCode e = KSPSetFromOptions(s.ksp))
+  check_petsc(KSPSetTolerances(ksp, tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 10000),
+              "KSPSetTolerances");
+  if (const PetscErrorCode e = KSPSetFromOptions(ksp))
     throw std::invalid_argument(fmt::format("PETSc refused the solver options \"{}\": {}",
                                             options, par::petsc_message(e)));
   KSPType kt = nullptr;
   PCType pt = nullptr;
-  KSPGetType(s.ksp, &kt);
+  KSPGetType(ksp, &kt);
   PCGetType(pc, &pt);
-  s.preonly = std::string(kt) == KSPPREONLY;
+  preonly = std::string(kt) == KSPPREONLY;
   PetscBool rtol_given = PETSC_FALSE;
-  check_petsc(PetscOptionsHasName(nullptr, nullptr, "-ksp_rtol", &rtol_given), "PetscOptionsHasName");
-  s.fixed_rtol = s.preonly || rtol_given;
-  check_petsc(KSPGetTolerances(s.ksp, &s.rtol_floor, nullptr, nullptr, nullptr), "KSPGetTolerances");
-  s.rtol_now = s.rtol_floor;
+  check_petsc(PetscOptionsHasName(nullptr, nullptr, "-ksp_rtol", &rtol_given),
+              "PetscOptionsHasName");
+  fixed_rtol = preonly || rtol_given;
+  check_petsc(KSPGetTolerances(ksp, &rtol_floor, nullptr, nullptr, nullptr), "KSPGetTolerances");
+  rtol_now = rtol_floor;
   std::string method = fmt::format("PETSc {} + {}", kt, pt);
   MatSolverType st = nullptr;
   if (PCFactorGetMatSolverType(pc, &st) == 0 && st) method += fmt::format(" ({})", st);
+  return method;
+}
+
+PetscSolver::PetscSolver(const Mesh& mesh, const DofMap& dofs, const Assembler& assembler,
+                         Partition partition, PetscPreset preset, const std::string& options,
+                         double tolerance, std::optional<PetscPart> part)
+    : impl_(std::make_unique<Impl>()),
+      assembler_(assembler),
+      partition_(std::move(partition)),
+      part_(part) {
+  par::ensure_petsc();
+  Impl& s = *impl_;
+  s.add_options(options);
+  s.mesh = &mesh;
+  s.dofs = &dofs;
+  s.k = dofs.per_node;
+  s.number_rows(partition_, part_);
+  s.create_matrix(partition_, part_);
+  if (s.k == 3) s.set_rigid_body_modes();
+  const std::string method = s.create_ksp(preset, options, tolerance);
+  const int parts = partition_.parts;
   stats_.description = fmt::format("{}, {} rank{}", method, parts, parts > 1 ? "s" : "");
 }
 
