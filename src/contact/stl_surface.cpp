@@ -105,6 +105,118 @@ double segment_box_entry(const Vec3& lo, const Vec3& hi, double pad, const Vec3&
   return s0;
 }
 
+/// The corners welded into vertices: corners with exactly equal coordinates are one vertex
+/// (+ 0.0 makes -0.0 and 0.0 one key), numbered in the order they are first met.
+void weld(const Soup& soup, std::vector<Vec3>& x, std::vector<std::array<int, 3>>& tri) {
+  std::unordered_map<std::array<std::uint64_t, 3>, int, CoordHash> index;
+  index.reserve(soup.corners.size() / 2);
+  tri.resize(soup.corners.size() / 3);
+  for (std::size_t c = 0; c < soup.corners.size(); ++c) {
+    const Vec3& xc = soup.corners[c];
+    const std::array<std::uint64_t, 3> key{std::bit_cast<std::uint64_t>(xc[0] + 0.0),
+                                           std::bit_cast<std::uint64_t>(xc[1] + 0.0),
+                                           std::bit_cast<std::uint64_t>(xc[2] + 0.0)};
+    const auto [it, inserted] = index.try_emplace(key, static_cast<int>(x.size()));
+    if (inserted) x.push_back(xc);
+    tri[c / 3][c % 3] = it->second;
+  }
+}
+
+/// The unit normal of each triangle (counter-clockwise seen from outside). Throws InputError
+/// at the triangle (`at_triangle(t)`) for one of zero area.
+template <class At>
+std::vector<Vec3> face_normals(const std::vector<Vec3>& x,
+                               const std::vector<std::array<int, 3>>& tri, At&& at_triangle) {
+  const int n_t = static_cast<int>(tri.size());
+  std::vector<Vec3> face_n(n_t);
+  for (int t = 0; t < n_t; ++t) {
+    const Vec3 &a = x[tri[t][0]], &b = x[tri[t][1]], &c = x[tri[t][2]];
+    const Vec3 n = (b - a).cross(c - a);
+    const double longest2 =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    if (n.norm() <= sliver_tol * longest2)
+      throw InputError(at_triangle(t),
+                       fmt::format("triangle {} has zero area (vertices {}, {}, {}); remove it "
+                                   "or repair the mesh",
+                                   t + 1, point_str(a), point_str(b), point_str(c)));
+    face_n[t] = n.normalized();
+  }
+  return face_n;
+}
+
+/// The volume the triangles enclose, by the divergence theorem, about a vertex to limit
+/// cancellation (> 0 when the normals point out).
+double enclosed_volume(const std::vector<Vec3>& x, const std::vector<std::array<int, 3>>& tri) {
+  double volume = 0;
+  const Vec3& o = x[0];
+  for (const auto& t : tri) volume += (x[t[0]] - o).dot((x[t[1]] - o).cross(x[t[2]] - o)) / 6;
+  return volume;
+}
+
+/// The angle of triangle t at its corner k.
+double corner_angle(const std::vector<Vec3>& x, const std::array<int, 3>& t, int k) {
+  const Vec3& xk = x[t[k]];
+  const Vec3 u = x[t[(k + 1) % 3]] - xk, v = x[t[(k + 2) % 3]] - xk;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+/// Angle-weighted pseudo-normals (Bærentzen and Aanæs 2005): an edge's (edge k of triangle t
+/// at 3t + k) is the sum of its two faces' normals (both weighted by pi), a vertex's the sum
+/// of its faces' normals weighted by the angle of each face at the vertex.
+void pseudo_normals(const std::vector<Vec3>& x, const std::vector<std::array<int, 3>>& tri,
+                    const std::vector<Vec3>& face_n, const std::vector<int>& edge_nb,
+                    std::vector<Vec3>& edge_n, std::vector<Vec3>& vertex_n) {
+  const int n_t = static_cast<int>(tri.size());
+  edge_n.resize(3 * n_t);
+  vertex_n.assign(x.size(), Vec3::Zero());
+  for (int t = 0; t < n_t; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 sum = face_n[t] + face_n[edge_nb[3 * t + k]];
+      // Two faces back to back (a knife edge) have no pseudo-normal: take the face's own.
+      edge_n[3 * t + k] = sum.norm() > 1e-8 ? sum.normalized() : face_n[t];
+      vertex_n[tri[t][k]] += corner_angle(x, tri[t], k) * face_n[t];
+    }
+  }
+  for (Vec3& n : vertex_n) n.normalize();
+}
+
+/// Smoothed normals (Phong-style): at each corner of a triangle (3t + k), the angle-weighted
+/// mean of the normals of the faces at that vertex that lie on the same smooth part (within
+/// the crease angle of the triangle's own); whether each edge (3t + k) and each vertex is free
+/// of creases.
+void smoothed_normals(const std::vector<Vec3>& x, const std::vector<std::array<int, 3>>& tri,
+                      const std::vector<Vec3>& face_n, const std::vector<int>& edge_nb,
+                      std::vector<Vec3>& corner_n, std::vector<std::uint8_t>& edge_smooth,
+                      std::vector<std::uint8_t>& vertex_smooth) {
+  const int n_t = static_cast<int>(tri.size());
+  std::vector<int> vt_ptr(x.size() + 1, 0), vt_idx(3 * static_cast<std::size_t>(n_t));
+  for (const auto& t : tri)
+    for (int v : t) ++vt_ptr[v + 1];
+  for (std::size_t v = 0; v < x.size(); ++v) vt_ptr[v + 1] += vt_ptr[v];
+  {
+    std::vector<int> fill(vt_ptr.begin(), vt_ptr.end() - 1);
+    for (int t = 0; t < n_t; ++t)
+      for (int k = 0; k < 3; ++k) vt_idx[fill[tri[t][k]]++] = 3 * t + k;
+  }
+  corner_n.resize(3 * n_t);
+  edge_smooth.resize(3 * n_t);
+  vertex_smooth.assign(x.size(), 1);
+  for (int t = 0; t < n_t; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int v = tri[t][k];
+      Vec3 sum = Vec3::Zero();
+      for (int i = vt_ptr[v]; i < vt_ptr[v + 1]; ++i) {
+        const int t2 = vt_idx[i] / 3;
+        if (face_n[t2].dot(face_n[t]) >= crease_cos)
+          sum += corner_angle(x, tri[t2], vt_idx[i] % 3) * face_n[t2];
+        else
+          vertex_smooth[v] = 0;
+      }
+      corner_n[3 * t + k] = sum.normalized();
+      edge_smooth[3 * t + k] = face_n[edge_nb[3 * t + k]].dot(face_n[t]) >= crease_cos;
+    }
+}
+
 }  // namespace
 
 StlSurface::StlSurface(const fs::path& file, double scale)
@@ -119,34 +231,8 @@ StlSurface::StlSurface(std::string_view bytes, const std::string& name, double s
   auto at_triangle = [&](int t) {  // the facet's line in an ASCII file
     return SourceLocation{name, soup.line.empty() ? 0 : soup.line[t], 0, ""};
   };
-
-  // Weld corners with exactly equal coordinates; + 0.0 makes -0.0 and 0.0 one key.
-  std::unordered_map<std::array<std::uint64_t, 3>, int, CoordHash> index;
-  index.reserve(soup.corners.size() / 2);
-  tri_.resize(n_t);
-  for (std::size_t c = 0; c < soup.corners.size(); ++c) {
-    const Vec3& x = soup.corners[c];
-    const std::array<std::uint64_t, 3> key{std::bit_cast<std::uint64_t>(x[0] + 0.0),
-                                           std::bit_cast<std::uint64_t>(x[1] + 0.0),
-                                           std::bit_cast<std::uint64_t>(x[2] + 0.0)};
-    const auto [it, inserted] = index.try_emplace(key, static_cast<int>(x_.size()));
-    if (inserted) x_.push_back(x);
-    tri_[c / 3][c % 3] = it->second;
-  }
-
-  face_n_.resize(n_t);
-  for (int t = 0; t < n_t; ++t) {
-    const Vec3 &a = x_[tri_[t][0]], &b = x_[tri_[t][1]], &c = x_[tri_[t][2]];
-    const Vec3 n = (b - a).cross(c - a);
-    const double longest2 =
-        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if (n.norm() <= sliver_tol * longest2)
-      throw InputError(at_triangle(t),
-                       fmt::format("triangle {} has zero area (vertices {}, {}, {}); remove it "
-                                   "or repair the mesh",
-                                   t + 1, point_str(a), point_str(b), point_str(c)));
-    face_n_[t] = n.normalized();
-  }
+  weld(soup, x_, tri_);
+  face_n_ = face_normals(x_, tri_, at_triangle);
 
   Vec3 lo = x_[0], hi = x_[0];
   for (const Vec3& x : x_) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
@@ -154,9 +240,7 @@ StlSurface::StlSurface(std::string_view bytes, const std::string& name, double s
 
   build_topology(name, soup.line);
 
-  // Enclosed volume by the divergence theorem, about a vertex to limit cancellation.
-  const Vec3& o = x_[0];
-  for (const auto& t : tri_) volume_ += (x_[t[0]] - o).dot((x_[t[1]] - o).cross(x_[t[2]] - o)) / 6;
+  volume_ = enclosed_volume(x_, tri_);
   if (std::abs(volume_) <= round_off * size_ * size_ * size_)
     throw InputError(where, "the surface encloses no volume; a rigid body must be a solid");
   if (volume_ < 0)
@@ -166,55 +250,8 @@ StlSurface::StlSurface(std::string_view bytes, const std::string& name, double s
                                         "it is counter-clockwise seen from outside the body",
                                         volume_));
 
-  // Angle-weighted pseudo-normals (Bærentzen and Aanæs 2005): an edge's is the sum of its two
-  // faces' normals (both weighted by pi), a vertex's the sum of its faces' normals weighted by
-  // the angle of each face at the vertex.
-  auto corner_angle = [&](int t, int k) {  // the angle of triangle t at its corner k
-    const Vec3& x = x_[tri_[t][k]];
-    const Vec3 u = x_[tri_[t][(k + 1) % 3]] - x, v = x_[tri_[t][(k + 2) % 3]] - x;
-    return std::atan2(u.cross(v).norm(), u.dot(v));
-  };
-  edge_n_.resize(3 * n_t);
-  vertex_n_.assign(x_.size(), Vec3::Zero());
-  for (int t = 0; t < n_t; ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 sum = face_n_[t] + face_n_[edge_nb_[3 * t + k]];
-      // Two faces back to back (a knife edge) have no pseudo-normal: take the face's own.
-      edge_n_[3 * t + k] = sum.norm() > 1e-8 ? sum.normalized() : face_n_[t];
-      vertex_n_[tri_[t][k]] += corner_angle(t, k) * face_n_[t];
-    }
-  }
-  for (Vec3& n : vertex_n_) n.normalize();
-
-  // Smoothed normals (Phong-style): at each corner of a triangle, the angle-weighted mean of
-  // the normals of the faces at that vertex that lie on the same smooth part (within the
-  // crease angle of the triangle's own).
-  std::vector<int> vt_ptr(x_.size() + 1, 0), vt_idx(3 * static_cast<std::size_t>(n_t));
-  for (const auto& tri : tri_)
-    for (int v : tri) ++vt_ptr[v + 1];
-  for (std::size_t v = 0; v < x_.size(); ++v) vt_ptr[v + 1] += vt_ptr[v];
-  {
-    std::vector<int> fill(vt_ptr.begin(), vt_ptr.end() - 1);
-    for (int t = 0; t < n_t; ++t)
-      for (int k = 0; k < 3; ++k) vt_idx[fill[tri_[t][k]]++] = 3 * t + k;
-  }
-  corner_n_.resize(3 * n_t);
-  edge_smooth_.resize(3 * n_t);
-  vertex_smooth_.assign(x_.size(), 1);
-  for (int t = 0; t < n_t; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int v = tri_[t][k];
-      Vec3 sum = Vec3::Zero();
-      for (int i = vt_ptr[v]; i < vt_ptr[v + 1]; ++i) {
-        const int t2 = vt_idx[i] / 3;
-        if (face_n_[t2].dot(face_n_[t]) >= crease_cos)
-          sum += corner_angle(t2, vt_idx[i] % 3) * face_n_[t2];
-        else
-          vertex_smooth_[v] = 0;
-      }
-      corner_n_[3 * t + k] = sum.normalized();
-      edge_smooth_[3 * t + k] = face_n_[edge_nb_[3 * t + k]].dot(face_n_[t]) >= crease_cos;
-    }
+  pseudo_normals(x_, tri_, face_n_, edge_nb_, edge_n_, vertex_n_);
+  smoothed_normals(x_, tri_, face_n_, edge_nb_, corner_n_, edge_smooth_, vertex_smooth_);
 
   // Bounding-volume hierarchy: median split of the centroids along their longest extent.
   std::vector<Vec3> centroid(n_t);
