@@ -147,6 +147,118 @@ void shape_values(CellType type, const double* x, double* N) {
   }
 }
 
+namespace {
+
+// The gradients of the quadratic (and the wedge's) shape functions, dN[dim a + i] = dN_a/dξ_i.
+
+void tet10_gradients(const double* x, double* dN) {
+  const double L[4] = {1.0 - x[0] - x[1] - x[2], x[0], x[1], x[2]};
+  // dL_0 = (-1, -1, -1), dL_i = e_(i-1): dN = f0 dL_0 + sum_i f_i e_(i-1) with f_j = dN/dL_j.
+  auto put = [&](int a, double f0, double f1, double f2, double f3) {
+    dN[3 * a + 0] = f1 - f0;
+    dN[3 * a + 1] = f2 - f0;
+    dN[3 * a + 2] = f3 - f0;
+  };
+  double f[4];
+  for (int a = 0; a < 4; ++a) {
+    f[0] = f[1] = f[2] = f[3] = 0.0;
+    f[a] = 4.0 * L[a] - 1.0;
+    put(a, f[0], f[1], f[2], f[3]);
+  }
+  for (int e = 0; e < 6; ++e) {
+    const int i = tet10_edges[e][0], j = tet10_edges[e][1];
+    f[0] = f[1] = f[2] = f[3] = 0.0;
+    f[i] = 4.0 * L[j];
+    f[j] = 4.0 * L[i];
+    put(4 + e, f[0], f[1], f[2], f[3]);
+  }
+}
+
+void hex20_gradients(const double* x, double* dN) {
+  for (int a = 0; a < 20; ++a) {
+    const double* c = hex20_nodes + 3 * a;
+    const double p = 1.0 + c[0] * x[0], q = 1.0 + c[1] * x[1], r = 1.0 + c[2] * x[2];
+    double* g = dN + 3 * a;
+    if (a < 8) {
+      // N = p q r s / 8 with s = c.x - 2: dN/dxi = c0 q r (s + p) / 8, ...
+      const double s = c[0] * x[0] + c[1] * x[1] + c[2] * x[2] - 2.0;
+      g[0] = 0.125 * c[0] * q * r * (s + p);
+      g[1] = 0.125 * c[1] * p * r * (s + q);
+      g[2] = 0.125 * c[2] * p * q * (s + r);
+    } else if (c[0] == 0.0) {
+      const double b = 1.0 - x[0] * x[0];
+      g[0] = -0.5 * x[0] * q * r;
+      g[1] = 0.25 * b * c[1] * r;
+      g[2] = 0.25 * b * q * c[2];
+    } else if (c[1] == 0.0) {
+      const double b = 1.0 - x[1] * x[1];
+      g[0] = 0.25 * c[0] * b * r;
+      g[1] = -0.5 * x[1] * p * r;
+      g[2] = 0.25 * p * b * c[2];
+    } else {
+      const double b = 1.0 - x[2] * x[2];
+      g[0] = 0.25 * c[0] * q * b;
+      g[1] = 0.25 * p * c[1] * b;
+      g[2] = -0.5 * x[2] * p * q;
+    }
+  }
+}
+
+void wedge6_gradients(const double* x, double* dN) {
+  const double L[3] = {1.0 - x[0] - x[1], x[0], x[1]};
+  constexpr double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
+  const double lo = 0.5 * (1.0 - x[2]), hi = 0.5 * (1.0 + x[2]);
+  for (int a = 0; a < 3; ++a) {
+    dN[3 * a + 0] = dL[a][0] * lo;
+    dN[3 * a + 1] = dL[a][1] * lo;
+    dN[3 * a + 2] = -0.5 * L[a];
+    dN[3 * (a + 3) + 0] = dL[a][0] * hi;
+    dN[3 * (a + 3) + 1] = dL[a][1] * hi;
+    dN[3 * (a + 3) + 2] = 0.5 * L[a];
+  }
+}
+
+void tri6_gradients(const double* x, double* dN) {
+  const double L[3] = {1.0 - x[0] - x[1], x[0], x[1]};
+  // dL_0 = (-1, -1), dL_1 = (1, 0), dL_2 = (0, 1).
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    f[0] = f[1] = f[2] = 0.0;
+    f[a] = 4.0 * L[a] - 1.0;
+    dN[2 * a + 0] = f[1] - f[0];
+    dN[2 * a + 1] = f[2] - f[0];
+  }
+  for (int e = 0; e < 3; ++e) {
+    const int i = tri6_edges[e][0], j = tri6_edges[e][1];
+    f[0] = f[1] = f[2] = 0.0;
+    f[i] = 4.0 * L[j];
+    f[j] = 4.0 * L[i];
+    dN[2 * (3 + e) + 0] = f[1] - f[0];
+    dN[2 * (3 + e) + 1] = f[2] - f[0];
+  }
+}
+
+void quad8_gradients(const double* x, double* dN) {
+  for (int a = 0; a < 8; ++a) {
+    const double* c = quad8_nodes + 3 * a;
+    const double p = 1.0 + c[0] * x[0], q = 1.0 + c[1] * x[1];
+    double* g = dN + 2 * a;
+    if (a < 4) {
+      const double s = c[0] * x[0] + c[1] * x[1] - 1.0;
+      g[0] = 0.25 * c[0] * q * (s + p);
+      g[1] = 0.25 * c[1] * p * (s + q);
+    } else if (c[0] == 0.0) {
+      g[0] = -x[0] * q;
+      g[1] = 0.5 * (1.0 - x[0] * x[0]) * c[1];
+    } else {
+      g[0] = 0.5 * c[0] * (1.0 - x[1] * x[1]);
+      g[1] = -x[1] * p;
+    }
+  }
+}
+
+}  // namespace
+
 void shape_gradients(CellType type, const double* x, double* dN) {
   switch (type) {
     case CellType::tet4: {
@@ -154,29 +266,8 @@ void shape_gradients(CellType type, const double* x, double* dN) {
       for (int i = 0; i < 12; ++i) dN[i] = g[i];
       return;
     }
-    case CellType::tet10: {
-      const double L[4] = {1.0 - x[0] - x[1] - x[2], x[0], x[1], x[2]};
-      // dL_0 = (-1, -1, -1), dL_i = e_(i-1): dN = f0 dL_0 + sum_i f_i e_(i-1) with f_j = dN/dL_j.
-      auto put = [&](int a, double f0, double f1, double f2, double f3) {
-        dN[3 * a + 0] = f1 - f0;
-        dN[3 * a + 1] = f2 - f0;
-        dN[3 * a + 2] = f3 - f0;
-      };
-      double f[4];
-      for (int a = 0; a < 4; ++a) {
-        f[0] = f[1] = f[2] = f[3] = 0.0;
-        f[a] = 4.0 * L[a] - 1.0;
-        put(a, f[0], f[1], f[2], f[3]);
-      }
-      for (int e = 0; e < 6; ++e) {
-        const int i = tet10_edges[e][0], j = tet10_edges[e][1];
-        f[0] = f[1] = f[2] = f[3] = 0.0;
-        f[i] = 4.0 * L[j];
-        f[j] = 4.0 * L[i];
-        put(4 + e, f[0], f[1], f[2], f[3]);
-      }
-      return;
-    }
+    case CellType::tet10:
+      return tet10_gradients(x, dN);
     case CellType::hex8:
       for (int a = 0; a < 8; ++a) {
         const double* c = hex_nodes + 3 * a;
@@ -187,73 +278,16 @@ void shape_gradients(CellType type, const double* x, double* dN) {
       }
       return;
     case CellType::hex20:
-      for (int a = 0; a < 20; ++a) {
-        const double* c = hex20_nodes + 3 * a;
-        const double p = 1.0 + c[0] * x[0], q = 1.0 + c[1] * x[1], r = 1.0 + c[2] * x[2];
-        double* g = dN + 3 * a;
-        if (a < 8) {
-          // N = p q r s / 8 with s = c.x - 2: dN/dxi = c0 q r (s + p) / 8, ...
-          const double s = c[0] * x[0] + c[1] * x[1] + c[2] * x[2] - 2.0;
-          g[0] = 0.125 * c[0] * q * r * (s + p);
-          g[1] = 0.125 * c[1] * p * r * (s + q);
-          g[2] = 0.125 * c[2] * p * q * (s + r);
-        } else if (c[0] == 0.0) {
-          const double b = 1.0 - x[0] * x[0];
-          g[0] = -0.5 * x[0] * q * r;
-          g[1] = 0.25 * b * c[1] * r;
-          g[2] = 0.25 * b * q * c[2];
-        } else if (c[1] == 0.0) {
-          const double b = 1.0 - x[1] * x[1];
-          g[0] = 0.25 * c[0] * b * r;
-          g[1] = -0.5 * x[1] * p * r;
-          g[2] = 0.25 * p * b * c[2];
-        } else {
-          const double b = 1.0 - x[2] * x[2];
-          g[0] = 0.25 * c[0] * q * b;
-          g[1] = 0.25 * p * c[1] * b;
-          g[2] = -0.5 * x[2] * p * q;
-        }
-      }
-      return;
-    case CellType::wedge6: {
-      const double L[3] = {1.0 - x[0] - x[1], x[0], x[1]};
-      constexpr double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
-      const double lo = 0.5 * (1.0 - x[2]), hi = 0.5 * (1.0 + x[2]);
-      for (int a = 0; a < 3; ++a) {
-        dN[3 * a + 0] = dL[a][0] * lo;
-        dN[3 * a + 1] = dL[a][1] * lo;
-        dN[3 * a + 2] = -0.5 * L[a];
-        dN[3 * (a + 3) + 0] = dL[a][0] * hi;
-        dN[3 * (a + 3) + 1] = dL[a][1] * hi;
-        dN[3 * (a + 3) + 2] = 0.5 * L[a];
-      }
-      return;
-    }
+      return hex20_gradients(x, dN);
+    case CellType::wedge6:
+      return wedge6_gradients(x, dN);
     case CellType::tri3: {
       constexpr double g[6] = {-1, -1, 1, 0, 0, 1};
       for (int i = 0; i < 6; ++i) dN[i] = g[i];
       return;
     }
-    case CellType::tri6: {
-      const double L[3] = {1.0 - x[0] - x[1], x[0], x[1]};
-      // dL_0 = (-1, -1), dL_1 = (1, 0), dL_2 = (0, 1).
-      double f[3];
-      for (int a = 0; a < 3; ++a) {
-        f[0] = f[1] = f[2] = 0.0;
-        f[a] = 4.0 * L[a] - 1.0;
-        dN[2 * a + 0] = f[1] - f[0];
-        dN[2 * a + 1] = f[2] - f[0];
-      }
-      for (int e = 0; e < 3; ++e) {
-        const int i = tri6_edges[e][0], j = tri6_edges[e][1];
-        f[0] = f[1] = f[2] = 0.0;
-        f[i] = 4.0 * L[j];
-        f[j] = 4.0 * L[i];
-        dN[2 * (3 + e) + 0] = f[1] - f[0];
-        dN[2 * (3 + e) + 1] = f[2] - f[0];
-      }
-      return;
-    }
+    case CellType::tri6:
+      return tri6_gradients(x, dN);
     case CellType::quad4:
       for (int a = 0; a < 4; ++a) {
         const double* c = quad_nodes + 3 * a;
@@ -262,23 +296,7 @@ void shape_gradients(CellType type, const double* x, double* dN) {
       }
       return;
     case CellType::quad8:
-      for (int a = 0; a < 8; ++a) {
-        const double* c = quad8_nodes + 3 * a;
-        const double p = 1.0 + c[0] * x[0], q = 1.0 + c[1] * x[1];
-        double* g = dN + 2 * a;
-        if (a < 4) {
-          const double s = c[0] * x[0] + c[1] * x[1] - 1.0;
-          g[0] = 0.25 * c[0] * q * (s + p);
-          g[1] = 0.25 * c[1] * p * (s + q);
-        } else if (c[0] == 0.0) {
-          g[0] = -x[0] * q;
-          g[1] = 0.5 * (1.0 - x[0] * x[0]) * c[1];
-        } else {
-          g[0] = 0.5 * c[0] * (1.0 - x[1] * x[1]);
-          g[1] = -x[1] * p;
-        }
-      }
-      return;
+      return quad8_gradients(x, dN);
   }
 }
 
