@@ -1,0 +1,160 @@
+#pragma once
+// The reader of an Abaqus/CalculiX deck (input/inp_reader.hpp) behind parse_inp: the deck
+// read keyword by keyword into nodes, elements, sets and surfaces (inp_keywords.cpp), then
+// turned into the Mesh and its regions (inp_reader.cpp).
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstddef>
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "input/gmsh_reader.hpp"
+#include "input/inp_deck.hpp"
+#include "input/inp_elements.hpp"
+#include "mesh/mesh.hpp"
+
+namespace hencky::inp {
+
+/// A member of a set: the labels first, first + step, .. last (one label: first = last).
+struct Member {
+  long first = 0, last = 0, step = 1;
+  int line = 0;  ///< index into Deck::lines, for messages
+  long count() const { return (last - first) / step + 1; }
+  /// Label k (from 0) of the member; first + k·step never passes `last`, so it cannot
+  /// overflow as a running `label += step` could next to the largest long.
+  long label(long k) const { return first + k * step; }
+};
+
+struct Set {
+  std::string name;       ///< as first written
+  int line = 0;           ///< where it was first defined
+  bool internal = false;  ///< INTERNAL (Abaqus/CAE's sets behind a surface): not a region
+  std::vector<Member> members;
+  std::size_t count = 0;  ///< labels over all members (with repeats)
+};
+
+struct SurfaceItem {
+  std::string set;  ///< an ELSET (NSET) name, or empty for a label
+  long label = 0;
+  int side = 0;  ///< face number from 1 (element-based surfaces)
+  int line = 0;
+};
+
+struct Surface {
+  std::string name;
+  bool nodes = false;
+  int line = 0;
+  std::vector<SurfaceItem> items;
+};
+
+struct Element {
+  long label = 0;
+  ElementKind kind;
+  std::string type;  ///< as the file names it, upper case
+  int offset = 0;    ///< its node labels: conn[offset .. offset + kind.nodes), the file's order
+  int line = 0;
+};
+
+/// The deck, read keyword by keyword into nodes, elements and sets; then turned into the Mesh.
+class InpReader {
+ public:
+  InpReader(const Deck& deck, const MeshReadOptions& options, std::vector<std::string>* warnings)
+      : deck_(deck), options_(options), warnings_(warnings) {}
+
+  /// The Mesh of the deck. Throws InputError naming the file and line.
+  Mesh read();
+
+ private:
+  static constexpr std::size_t max_members = 200'000'000;
+
+  InputError fail(int line, const std::string& msg) const {
+    return deck_.fail(deck_.lines[line], msg);
+  }
+  std::string_view text(int line) const { return deck_.lines[line].text; }
+
+  /// The fields of data line `line`, the empty ones (a trailing comma) dropped.
+  std::vector<std::string_view> data(int line) const {
+    auto f = fields(text(line));
+    f.erase(std::remove_if(f.begin(), f.end(), [](std::string_view s) { return s.empty(); }),
+            f.end());
+    return f;
+  }
+  static bool is_label(std::string_view s) {
+    return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '+');
+  }
+  /// Calls f(label, line) for each label of the set's members.
+  template <class F>
+  void each_label(const Set& s, F&& f) const {
+    for (const Member& m : s.members)
+      for (long k = 0, n = m.count(); k < n; ++k) f(m.label(k), m.line);
+  }
+
+  // The keywords (inp_keywords.cpp).
+  long label(std::string_view s, int line, const char* what) const;
+  double real(std::string_view s, int line) const;
+  /// The keyword k of line `at`, its data lines first .. end - 1.
+  void keyword(const Keyword& k, int at, int first, int end);
+  void skip(const std::string& what);
+  void part(const Keyword& k, int at);
+  void instance(const Keyword& k, int at, int first, int end);
+  void nodes(const Keyword& k, int at, int first, int end);
+  void elements(const Keyword& k, int at, int first, int end);
+  void add_element(const std::string& type, const ElementKind& ek, const std::vector<long>& labels,
+                   int line);
+  Set& open_set(std::map<std::string, Set>& sets, const std::string& name, int at);
+  void add_member(Set& s, const Member& m);
+  void set(const Keyword& k, int at, int first, int end, bool of_nodes);
+  const Set& find_set(const std::map<std::string, Set>& sets, std::string_view name, int line,
+                      const char* kind) const;
+  void surface(const Keyword& k, int at, int first, int end);
+
+  // The Mesh (inp_reader.cpp).
+  Mesh build();
+  /// The nodes of a node set's labels that are on the body (each label must be a node).
+  void add_nodes(const Set& s, Region& r) const;
+  void node_regions(Mesh& mesh) const;
+  /// The element of a label that a set names (it must be an element of the deck); nullptr for
+  /// a skipped (line) element.
+  const Element* element(long label, int line, const std::string& set) const;
+  void face_regions(Mesh& mesh);
+  /// A face's corner labels, sorted: the same for the two cells that share the face.
+  std::array<long, 4> face_key(const Element& e, std::span<const int> face) const;
+  /// How many volume elements have each face (built when first asked).
+  const std::map<std::array<long, 4>, int>& face_count();
+  void volume_regions(Mesh& mesh);
+  void warn() const;
+
+  const Deck& deck_;
+  const MeshReadOptions& options_;
+  std::vector<std::string>* warnings_;
+
+  std::vector<long> node_label_;
+  std::vector<int> node_line_;
+  std::vector<double> xyz_;
+  std::unordered_map<long, int> node_of_label_;
+  std::vector<Element> elements_;
+  std::vector<long> conn_;
+  std::unordered_map<long, int> element_of_label_;
+  std::unordered_map<long, int> skipped_elements_;  // label -> line
+  std::map<std::string, int> skipped_types_, renamed_types_;
+  std::map<std::string, Set> nsets_, elsets_;  // by upper-case name
+  std::vector<std::string> nset_order_, elset_order_;
+  std::map<std::string, Surface> surfaces_;
+  std::vector<std::string> surface_order_;
+  std::size_t total_members_ = 0;
+  std::vector<std::string> skipped_;
+  std::string part_name_;
+  int instances_ = 0;
+  bool in_assembly_ = false, in_instance_ = false;
+
+  std::map<std::array<long, 4>, int> face_count_;  // see face_count()
+  std::unordered_map<long, int> body_node_;        // node label -> hencky node
+  std::unordered_map<long, int> cell_of_element_;  // element label -> cell
+};
+
+}  // namespace hencky::inp
