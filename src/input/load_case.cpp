@@ -1,7 +1,6 @@
 #include "input/load_case.hpp"
 
-#include <chrono>
-
+#include "core/timer.hpp"
 #include "input/case_reader.hpp"
 #include "input/gmsh_reader.hpp"
 #include "input/inp_reader.hpp"
@@ -18,27 +17,39 @@ LoadedCase load_case(const std::filesystem::path& case_file, Log& log) {
   return load_case(std::make_unique<Case>(read_case(case_file)), log);
 }
 
-LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
-  using Clock = std::chrono::steady_clock;
-  LoadedCase l;
-  l.spec = std::move(spec);
-  auto t0 = Clock::now();
+namespace {
+
+/// The case's mesh, read (or meshed), its readers' warnings logged.
+Mesh read_mesh(const Case& spec, Log& log) {
   MeshReadOptions opt;
-  opt.order = l.spec->mesh.order;
-  opt.scale = l.spec->mesh.scale;
+  opt.order = spec.mesh.order;
+  opt.scale = spec.mesh.scale;
   std::vector<std::string> gmsh_log;
   // A split mesh read whole (one rank, or ranks other than its files): its files together.
   std::vector<std::string> inp_warnings;
-  Mesh mesh = l.spec->mesh.split               ? read_pieces(piece_files(l.spec->mesh), opt)
-              : is_inp_file(l.spec->mesh.file) ? read_inp(l.spec->mesh.file, opt, &inp_warnings)
-                                               : read_gmsh(l.spec->mesh.file, opt, &gmsh_log);
+  Mesh mesh = spec.mesh.split               ? read_pieces(piece_files(spec.mesh), opt)
+              : is_inp_file(spec.mesh.file) ? read_inp(spec.mesh.file, opt, &inp_warnings)
+                                            : read_gmsh(spec.mesh.file, opt, &gmsh_log);
   for (const auto& line : gmsh_log)
     if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
   for (const auto& line : inp_warnings) log.warn(line);
-  l.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  t0 = Clock::now();
-  l.model = std::make_unique<Model>(*l.spec, std::move(mesh), log);
-  l.setup_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return mesh;
+}
+
+}  // namespace
+
+LoadedCase load_case(std::unique_ptr<Case> spec, Log& log) {
+  LoadedCase l;
+  l.spec = std::move(spec);
+  Mesh mesh;
+  {
+    const ScopedTimer timer(l.mesh_seconds);
+    mesh = read_mesh(*l.spec, log);
+  }
+  {
+    const ScopedTimer timer(l.setup_seconds);
+    l.model = std::make_unique<Model>(*l.spec, std::move(mesh), log);
+  }
   return l;
 }
 

@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <optional>
 
+#include "core/timer.hpp"
 #include "linalg/petsc_solver.hpp"
 #include "linalg/serial_system.hpp"
 #include "parallel/mpi.hpp"
@@ -126,14 +126,14 @@ std::unique_ptr<LinearSystem> make_system(const Model& spec_model, Model* model,
     const LinearChoiceRule rule = LinearChoiceRule::from_environment();
     std::string estimate;
     if (wants_factor_estimate(in, rule)) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const Clock::time_point t0 = Clock::now();
       const FactorEstimate& f = spec_model.node_factor();  // once for both systems
       in.factor_flops = f.flops_for(dofs.per_node);
       in.factor_entries = f.entries_for(dofs.per_node);
       node_order = f.node_order;
       estimate =
           fmt::format(" (factor predicted by a symbolic analysis of the node graph in {:.2f} s)",
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                      seconds_since(t0));
     }
     const LinearChoice choice = choose_linear(in, rule);
     linear = choice.linear;

@@ -7,11 +7,11 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "core/interrupt.hpp"
+#include "core/timer.hpp"
 #include "linalg/gmres.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/nodal_layout.hpp"
@@ -82,7 +82,7 @@ void HeatSolver::start() {
   }
   s0.flow.assign(spec_.boundary.size(), 0.0);
   s0.energy.assign(spec_.boundary.size(), 0.0);
-  const auto t_start = std::chrono::steady_clock::now();
+  const ScopedTimer timer(seconds_);
   if (spec_.transient) {
     Evaluation ev;
     evaluate(s0.T, s0, 0.0, false, ev);
@@ -97,7 +97,6 @@ void HeatSolver::start() {
       throw HeatDivergence("heat: the steady temperature at t = 0 did not converge: " + why);
     mem_.snapshots.push_back(std::move(steady));
   }
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 }
 
 void HeatSolver::fixed_temperatures(double t, std::vector<double>& T) const {
@@ -242,7 +241,7 @@ bool HeatSolver::full_newton_step(const std::vector<double>& T, const HeatSnapsh
 }
 
 void HeatSolver::advance(double target) {
-  const auto start = std::chrono::steady_clock::now();
+  const ScopedTimer timer(seconds_);
   const bool own = !spec_.times.empty();
   const double t_end = own ? spec_.times[std::min(next_target_, spec_.times.size() - 1)] : target;
   if (own && next_target_ >= spec_.times.size())
@@ -284,7 +283,6 @@ void HeatSolver::advance(double target) {
   }
   theta_ = spec_.theta;
   if (own) ++next_target_;
-  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void HeatSolver::interpolate(double t, std::vector<double>* T, std::vector<double>& flow,
