@@ -385,6 +385,8 @@ StlSurface::Closest StlSurface::closest(const Vec3& p, int* n_tested) const {
     Entry near{e.node + 1, box_distance2(nodes_[e.node + 1].lo, nodes_[e.node + 1].hi, p)};
     Entry far{node.index, box_distance2(nodes_[node.index].lo, nodes_[node.index].hi, p)};
     if (far.d2 < near.d2) std::swap(near, far);
+    // assert, not HENCKY_VERIFY: this is the innermost loop of every contact query (a check
+    // per box visited), and the depth bound above makes it a debug-build check.
     assert(top + 2 <= static_cast<int>(stack.size()));
     if (far.d2 < best.d2) stack[top++] = far;
     if (near.d2 < best.d2) stack[top++] = near;
@@ -480,6 +482,7 @@ std::optional<SurfacePoint> StlSurface::intersection(const Vec3& a, const Vec3& 
     const Node& node = nodes_[stack[--top]];
     if (segment_box_entry(node.lo, node.hi, pad, a, d, std::min(best_s, 1.0)) == inf) continue;
     if (node.count == 0) {
+      // assert, not HENCKY_VERIFY: the innermost loop of the query, as in closest().
       assert(top + 2 <= static_cast<int>(stack.size()));
       stack[top++] = node.index;
       stack[top++] = static_cast<int>(&node - nodes_.data()) + 1;

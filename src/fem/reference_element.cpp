@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/invariant.hpp"
 #include "fem/quadrature.hpp"
 
 namespace hencky {
@@ -363,8 +364,7 @@ const ReferenceTable& reference_table(CellType type, int degree) {
   if (cacheable)
     if (const ReferenceTable* p = table_cache[t][degree].load(std::memory_order_relaxed)) return *p;
   // Degrees that map to the same rule share one table, keyed by the rule's degree.
-  if (rule.degree > max_cached_degree)
-    throw std::logic_error("reference_table: rule degree too high");
+  HENCKY_VERIFY(rule.degree <= max_cached_degree, "reference_table: rule degree too high");
   const ReferenceTable* p = table_cache[t][rule.degree].load(std::memory_order_relaxed);
   if (!p) {
     table_storage.push_back(build_table(type, rule));

@@ -8,9 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "core/interrupt.hpp"
+#include "core/invariant.hpp"
 #include "core/timer.hpp"
 #include "linalg/gmres.hpp"
 #include "parallel/mpi.hpp"
@@ -244,8 +244,8 @@ void HeatSolver::advance(double target) {
   const ScopedTimer timer(seconds_);
   const bool own = !spec_.times.empty();
   const double t_end = own ? spec_.times[std::min(next_target_, spec_.times.size() - 1)] : target;
-  if (own && next_target_ >= spec_.times.size())
-    throw std::logic_error("heat: asked for a time after its last step");
+  HENCKY_VERIFY(!own || next_target_ < spec_.times.size(),
+                "heat: asked for a time after its last step");
   auto& snapshots = mem_.snapshots;
   // Targets to reach, each with its cut-back depth (as the mechanical step control).
   std::vector<std::pair<double, int>> targets = {{t_end, 0}};
@@ -294,7 +294,7 @@ void HeatSolver::interpolate(double t, std::vector<double>* T, std::vector<doubl
   // snapshots[i] is the first at or after t.
   const HeatSnapshot& b = snapshots[i];
   if (std::abs(b.time - t) <= eps || i == 0) {
-    if (b.time > t + eps) throw std::logic_error("heat: asked for a time before its snapshots");
+    HENCKY_VERIFY(!(b.time > t + eps), "heat: asked for a time before its snapshots");
     if (T) *T = b.T;
     flow = b.flow;
     energy = b.energy;
