@@ -47,7 +47,7 @@ const KeySection sections[] = {
 };
 
 /// A constant value below `lo` (or above `hi`) is refused now; an expression is checked where
-/// it is evaluated (solve/heat.cpp).
+/// it is evaluated (face_flux, solve/heat_terms.cpp).
 void check_constant_range(const Reader& r, const Val& v, const Expression& e, double lo, double hi,
                           const std::string& what) {
   if (!e.is_constant()) return;
