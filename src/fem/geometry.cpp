@@ -115,6 +115,10 @@ Voigt rotate_strain(const Mat3& R, const Voigt& e) {
   return voigt_of(R * tensor_of(e, 2) * R.transpose(), 2);
 }
 
+Voigt rotate_stress(const Mat3& R, const Voigt& s) {
+  return voigt_of(R * tensor_of(s, 1) * R.transpose(), 1);
+}
+
 double CellDeformation::compute(const CellKinematics& kin, const double* du) {
   n = kin.n;
   points = kin.points;

@@ -119,5 +119,7 @@ struct CellDeformation {
 Mat3 stress_tensor(const Voigt& s);
 /// R e Rᵀ for a strain-like Voigt vector e (engineering shears).
 Voigt rotate_strain(const Mat3& R, const Voigt& e);
+/// R s Rᵀ for a stress-like Voigt vector s (tensor shears).
+Voigt rotate_stress(const Mat3& R, const Voigt& s);
 
 }  // namespace hencky

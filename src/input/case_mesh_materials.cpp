@@ -109,6 +109,7 @@ void check_property(const Reader& r, const Val& v, Property p, const std::string
       if (!(x > 0)) r.fail(v, what + " must be > 0, found " + num(x));
       break;
     case Property::alpha:
+    case Property::any:        // a point law's field: the law checks it (LawDeclaration::make)
     case Property::hardening:  // may be negative (softening); > -3G is checked with E and nu
       break;
   }

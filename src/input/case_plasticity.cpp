@@ -1,14 +1,21 @@
 // A material's plasticity: the hardening curve as given (a table of tension tests, perfect,
 // linear or Ramberg-Osgood) and the unloading. Converted and checked with E and nu by
-// Hardening (material/hardening.hpp), which read_materials calls.
+// Hardening (material/hardening.hpp), which read_materials calls. The keys of the registered
+// point laws (material/point_law.hpp) are read here from their declarations.
 #include "input/case_sections.hpp"
+#include "material/point_law.hpp"
 
 namespace hencky::case_input {
 
 namespace {
 
-const std::vector<std::string> plasticity_keys = {"curve", "perfect", "linear", "ramberg_osgood",
-                                                  "unloading"};
+/// The curve's keys and the registered laws' (their declarations, read once).
+const std::vector<std::string> plasticity_keys = [] {
+  std::vector<std::string> k = {"curve", "perfect", "linear", "ramberg_osgood", "unloading"};
+  for (const LawDeclaration& law : point_laws())
+    for (const LawKey& key : law.keys) k.push_back(key.name);
+  return k;
+}();
 const std::vector<std::string> curve_choices = {"curve", "perfect", "linear", "ramberg_osgood"};
 const std::vector<std::string> curve_keys = {"kind", "table"};
 const std::vector<std::string> curve_table_keys = {"temperature", "strain", "stress"};
@@ -18,14 +25,25 @@ const std::vector<std::string> ramberg_osgood_keys = {"E", "yield", "alpha", "n"
 const std::vector<std::string> curve_kinds = {"uniaxial", "plastic", "intensity"};
 const std::vector<std::string> unloadings = {"elastic", "curve"};
 
-const KeySection sections[] = {
-    {"materials[i].plasticity", &plasticity_keys},
-    {"materials[i].plasticity.curve", &curve_keys},
-    {"materials[i].plasticity.curve.table[j]", &curve_table_keys},
-    {"materials[i].plasticity.perfect", &perfect_keys},
-    {"materials[i].plasticity.linear", &linear_keys},
-    {"materials[i].plasticity.ramberg_osgood", &ramberg_osgood_keys},
-};
+const std::vector<KeySection> sections = [] {
+  std::vector<KeySection> s = {
+      {"materials[i].plasticity", &plasticity_keys},
+      {"materials[i].plasticity.curve", &curve_keys},
+      {"materials[i].plasticity.curve.table[j]", &curve_table_keys},
+      {"materials[i].plasticity.perfect", &perfect_keys},
+      {"materials[i].plasticity.linear", &linear_keys},
+      {"materials[i].plasticity.ramberg_osgood", &ramberg_osgood_keys},
+  };
+  // The laws' groups; the names live as long as the registry.
+  static std::vector<std::string> names;
+  for (const LawDeclaration& law : point_laws())
+    for (const LawKey& key : law.keys)
+      names.push_back("materials[i].plasticity." + key.name + "[j]");
+  std::size_t i = 0;
+  for (const LawDeclaration& law : point_laws())
+    for (const LawKey& key : law.keys) s.push_back({names[i++].c_str(), &key.fields});
+  return s;
+}();
 
 /// `several`: there is more than one table; `converted`: E or nu depends on temperature and the
 /// table is converted with them (not the plastic form). Either way the temperature is required.
@@ -115,6 +133,36 @@ void read_ramberg_osgood(const Reader& r, const Val& c, CurveSpec& curve) {
   if (!(curve.ro_n > 1)) r.fail(n, "expected an exponent n > 1, found " + num(curve.ro_n));
 }
 
+/// The keys of the registered point laws under `plasticity:` (at most one law's).
+void read_law_keys(const Reader& r, const Map& m, PlasticitySpec& p) {
+  for (const LawDeclaration& law : point_laws())
+    for (const LawKey& key : law.keys) {
+      const auto v = m.get(key.name);
+      if (!v) continue;
+      if (!p.law.law.empty() && p.law.law != law.name)
+        r.fail(*v,
+               "give one point law, found keys of both '" + p.law.law + "' and '" + law.name + "'");
+      p.law.law = law.name;
+      p.law.where = r.at(*v);
+      std::string example = "{";
+      for (const auto& f : key.fields) example += (example.size() > 1 ? ", " : "") + f + ": ...";
+      example += "}";
+      const auto items =
+          r.entries(*v, "a list of groups [" + example + ", ...] (" + key.unit + ")");
+      if (items.empty())
+        r.fail(*v, "expected at least one group " + example + ", found an empty list");
+      auto& groups = p.law.keys[key.name];
+      for (const auto& item : items) {
+        Map g(r, item, key.fields, "a group " + example);
+        LawParameters::Group group;
+        for (const auto& f : key.fields)
+          group[f] = read_property(r, g.require(r, f, "the field '" + f + "' (" + key.unit + ")"),
+                                   key.name + "." + f, Property::any);
+        groups.push_back(std::move(group));
+      }
+    }
+}
+
 }  // namespace
 
 std::span<const KeySection> plasticity_sections() {
@@ -159,6 +207,7 @@ PlasticitySpec read_plasticity(const Reader& r, const Val& v, const MaterialSpec
   } else {
     read_ramberg_osgood(r, c, curve);
   }
+  read_law_keys(r, m, p);
   if (auto u = m.get("unloading"))
     p.unloading = r.choice(*u, unloadings, "unloading") == "elastic"
                       ? PlasticitySpec::Unloading::elastic

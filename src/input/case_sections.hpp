@@ -31,7 +31,7 @@ MeshSpec read_mesh(const Reader& r, const Val& v);
 std::vector<MaterialSpec> read_materials(const Reader& r, const Val& v, bool has_temperature);
 
 /// Which property a number or table is, for its range check.
-enum class Property { E, nu, alpha, yield, hardening, positive };
+enum class Property { E, nu, alpha, yield, hardening, positive, any };
 
 /// A number or a table {temperature: [...], value: [...]}; `name` is used in messages.
 PropertyTable read_property(const Reader& r, const Val& v, const std::string& name, Property p);

@@ -1,5 +1,9 @@
 #include "material/kinematic.hpp"
 
+#include <fmt/format.h>
+
+#include <array>
+
 namespace hencky {
 
 KinematicReturn kinematic_return(const ElasticConstants& k, const StepCurve& curve, double h_kin,
@@ -19,6 +23,59 @@ KinematicReturn kinematic_return(const ElasticConstants& k, const StepCurve& cur
       a * z[5] / 3;
   r.alpha += d_alpha;
   return r;
+}
+
+std::span<const LawVariable> KinematicLaw::variables() const {
+  static const std::array<LawVariable, 1> v = {LawVariable{"back_stress", 6}};
+  return v;
+}
+
+double KinematicLaw::modulus(double T) const {
+  double h = 0;
+  for (const PropertyTable& c : c_) h += c(T);
+  return h;
+}
+
+ReturnMapping KinematicLaw::update(const ElasticConstants& k, const StepCurve& curve,
+                                   const Voigt& sigma0, const Voigt& d_mech,
+                                   std::span<const double> state0, std::span<double> state1) const {
+  const Voigt alpha0 = Eigen::Map<const Voigt>(state0.data());
+  const KinematicReturn r =
+      kinematic_return(k, curve, modulus(curve.temperature), sigma0, alpha0, d_mech);
+  Eigen::Map<Voigt>(state1.data()) = r.alpha;
+  return r.mapping;
+}
+
+LawDeclaration kinematic_law_declaration() {
+  LawDeclaration d;
+  d.name = "kinematic";
+  d.keys = {
+      LawKey{"kinematic", {"C", "gamma"}, "C in Pa (dα/dε^p, the back stress's modulus), gamma 1"}};
+  d.make = [](const PlasticitySpec& spec) -> std::shared_ptr<const PointLaw> {
+    const auto& groups = spec.law.keys.at("kinematic");
+    std::vector<PropertyTable> c;
+    for (const auto& g : groups) {
+      const PropertyTable& gamma = g.at("gamma");
+      for (double v : gamma.value)
+        if (v != 0)
+          throw InputError(gamma.where,
+                           fmt::format("gamma = {:g}: only linear kinematic hardening (Prager, "
+                                       "gamma: 0) is available; Armstrong-Frederick back "
+                                       "stresses (gamma > 0) are not yet",
+                                       v));
+      const PropertyTable& ci = g.at("C");
+      for (double v : ci.value)
+        if (!(v >= 0))
+          throw InputError(ci.where, fmt::format("C = {:g}: expected a modulus >= 0 (Pa)", v));
+      c.push_back(ci);
+    }
+    if (spec.unloading != PlasticitySpec::Unloading::elastic)
+      throw InputError(spec.law.where,
+                       "kinematic hardening needs elastic unloading (unloading: elastic, the "
+                       "default): a moving yield surface has no deformation-theory form");
+    return std::make_shared<KinematicLaw>(std::move(c));
+  };
+  return d;
 }
 
 }  // namespace hencky

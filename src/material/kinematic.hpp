@@ -6,7 +6,10 @@
 // (for a perfectly plastic isotropic part). The return is the radial return of the stress
 // relative to α (radial_return with H_k), after Simo and Hughes, Computational Inelasticity,
 // 1998, section 3.3 (J2 with combined linear hardening). A pure function, as radial_return.
+#include <vector>
+
 #include "material/plastic_point.hpp"
+#include "material/point_law.hpp"
 
 namespace hencky {
 
@@ -19,5 +22,25 @@ struct KinematicReturn {
 /// `h_kin`: H_k ≥ 0 (Pa); `curve`: the isotropic part at the step's temperature.
 KinematicReturn kinematic_return(const ElasticConstants& k, const StepCurve& curve, double h_kin,
                                  const Voigt& sigma0, const Voigt& alpha0, const Voigt& d_eps_ep);
+
+/// The point law (point_law.hpp) of `plasticity: {..., kinematic: [{C, gamma: 0}, ...]}`: the
+/// isotropic curve as given (`perfect` for none) and H_k(T) = ΣC_i(T); newton only. Its state
+/// is the back stress α (`back_stress`, 6).
+class KinematicLaw final : public PointLaw {
+ public:
+  explicit KinematicLaw(std::vector<PropertyTable> c) : c_(std::move(c)) {}
+  std::span<const LawVariable> variables() const override;
+  ReturnMapping update(const ElasticConstants& k, const StepCurve& curve, const Voigt& sigma0,
+                       const Voigt& d_mech, std::span<const double> state0,
+                       std::span<double> state1) const override;
+  /// H_k at temperature T.
+  double modulus(double T) const;
+
+ private:
+  std::vector<PropertyTable> c_;
+};
+
+/// Its declaration: the key `kinematic`, a list of {C (Pa), gamma (1)}.
+LawDeclaration kinematic_law_declaration();
 
 }  // namespace hencky

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 
@@ -93,6 +94,20 @@ std::int64_t material_fingerprint(const MaterialSpec& m) {
     h.add(c.ro_alpha);
     h.add(c.ro_n);
     h.add(m.plasticity->unloading);
+    // A point law's keys (none for the isotropic law: older checkpoints keep their prints).
+    const LawParameters& law = m.plasticity->law;
+    if (!law.law.empty()) {
+      h.add(law.law);
+      for (const auto& [key, groups] : law.keys) {
+        h.add(key);
+        h.add(groups.size());
+        for (const auto& g : groups)
+          for (const auto& [field, table] : g) {
+            h.add(field);
+            h.add(table);
+          }
+      }
+    }
   }
   return h.value();
 }
@@ -381,6 +396,11 @@ CheckpointFile checkpoint_of(const Model& model, const State& s, const RunMemory
   put_points(f, "points.scalars", model, off, 4, [&](int p, double* o) {
     o[0] = s.eps_p_eq[p], o[1] = s.eps_ep[p], o[2] = s.eps_ep_max[p], o[3] = s.flowing[p];
   });
+  // The point laws' internal variables (material/point_law.hpp), where a law has any.
+  if (const int w = model.law_state_size(); w > 0)
+    put_points(f, "points.internal", model, off, w, [&](int p, double* o) {
+      std::copy_n(s.internal.begin() + static_cast<std::ptrdiff_t>(p) * w, w, o);
+    });
   // The equilibrium iteration's memory.
   const EquilibriumMemory& eq = run.equilibrium;
   const auto& dofs = model.dofs();

@@ -214,6 +214,12 @@ void restore_points(const Model& model, const CheckpointFile& f, const std::vect
     s.eps_p_eq[p] = v[0], s.eps_ep[p] = v[1], s.eps_ep_max[p] = v[2];
     s.flowing[p] = v[3] != 0;
   });
+  const int w = model.law_state_size();
+  s.internal.assign(static_cast<std::size_t>(n) * w, 0.0);
+  if (w > 0)
+    scatter(f, "points.internal", model, off, w, [&](int p, const double* v) {
+      std::copy_n(v, w, s.internal.begin() + static_cast<std::ptrdiff_t>(p) * w);
+    });
 }
 
 /// The equilibrium iteration's memory.

@@ -16,6 +16,28 @@ namespace hencky {
 namespace fs = std::filesystem;
 using namespace tensor_order;
 
+namespace {
+/// The point law's internal variables by their names (Model::law_variables), at the piece's n
+/// nodes (`node`: the model's node of each): a tensor in ParaView's order, like the stress.
+/// `store` keeps the arrays the fields' spans point into.
+template <class NodeOf>
+void add_law_fields(const Model& model, const RecoveredFields& fields, int n, NodeOf node,
+                    std::deque<std::vector<double>>& store, std::vector<VtuField>& out) {
+  std::size_t offset = 0;
+  const std::size_t n_law = model.law_state_size();
+  for (const LawVariable& var : model.law_variables()) {
+    auto& values = store.emplace_back(static_cast<std::size_t>(var.size) * n);
+    for (int i = 0; i < n; ++i) {
+      const double* v = &fields.nodal_internal[n_law * node(i) + offset];
+      for (int c = 0; c < var.size; ++c)
+        values[var.size * i + c] = v[var.size == 6 ? paraview_order[c] : c];
+    }
+    out.push_back({var.name, var.size, values});
+    offset += var.size;
+  }
+}
+}  // namespace
+
 FieldsWriter::FieldsWriter(const Model& model, fs::path dir)
     : model_(model), dir_(std::move(dir)), pieces_(par::size() > 1) {
   if (!pieces_) return;
@@ -162,6 +184,7 @@ FieldsWriter::Layout FieldsWriter::write_file(const fs::path& path, const State&
   };
   if (model_.has_heat())
     point_fields.push_back({"heat_flux", 3, at_nodes(heat_flux_, 3)});  // issue 18
+  add_law_fields(model_, fields, n, node, gathered, point_fields);
   std::vector<VtuField> cell_fields = {
       {"stress", 6, cell_stress},
       {"von_mises", 1, at_cells(fields.cell_von_mises)},

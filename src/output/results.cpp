@@ -190,6 +190,13 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   // Where each rigid surface is: its translation at the step (scripts/render.py draws it).
   for (const auto& c : model_.contacts())
     for (auto ax : axes) h << ",contact." << c.spec->name << ".motion." << ax;
+  // The point law's internal variables at the probes (a tensor in ParaView's order).
+  for (const auto& p : model_.probes())
+    for (const LawVariable& var : model_.law_variables()) {
+      if (var.size == 1) h << ',' << p.spec->name << '.' << var.name;
+      if (var.size == 6)
+        for (auto c : paraview_names) h << ',' << p.spec->name << '.' << var.name << '.' << c;
+    }
   h << '\n';
   header_ = h.str();
   history_ << header_;
@@ -210,6 +217,28 @@ void ResultWriter::abandon() {
   std::error_code ec;
   fs::remove_all(work_dir_, ec);
   finished_ = true;
+}
+
+/// The point law's internal variables at the probes (Model::law_variables), after every other
+/// column: a tensor in ParaView's order.
+void ResultWriter::write_law_values(const std::vector<ProbeValues>& probe_row,
+                                    nlohmann::json& probes) {
+  for (std::size_t i = 0; i < probe_row.size(); ++i) {
+    auto& j = probes[model_.probes()[i].spec->name];
+    std::size_t at = 0;
+    for (const LawVariable& var : model_.law_variables()) {
+      const double* x = probe_row[i].internal.data() + at;
+      for (int c = 0; c < var.size; ++c) {
+        const double value = x[var.size == 6 ? paraview_order[c] : c];
+        history_ << fmt::format(",{:.17g}", value);
+        if (var.size == 6)
+          j[var.name][paraview_names[c]] = value;
+        else
+          j[var.name] = value;
+      }
+      at += var.size;
+    }
+  }
 }
 
 void ResultWriter::write_history(const StepReport& report, const State& state,
@@ -297,6 +326,7 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
     for (int d = 0; d < 3; ++d) j["motion"][axes[d]] = m[d] + 0.0;  // not -0
     j["surface"] = surface_json(*model_.contacts()[k].spec);
   }
+  write_law_values(probe_row, probes);
   history_ << '\n';
   history_.flush();
   if (!history_)

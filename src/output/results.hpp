@@ -65,6 +65,7 @@ class ResultWriter final : public StepObserver {
   std::vector<std::string> report_lines() const;
 
  private:
+  void write_law_values(const std::vector<ProbeValues>& probe_row, nlohmann::json& probes);
   void write_history(const StepReport& report, const State& state, const StepValues& values);
   /// Keeps the run's largest values and the last balance (report()).
   void remember(double time, const StepValues& values);

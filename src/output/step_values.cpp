@@ -52,6 +52,13 @@ ProbeValues probe_values(const Model& model, const Probe& probe, const State& st
     if (!f.nodal_plastic_strain.empty()) v.plastic_strain += N * f.nodal_plastic_strain[n];
     if (!f.nodal_eps_ep.empty()) v.eps_ep += N * f.nodal_eps_ep[n];
   });
+  const int n_law = model.law_state_size();
+  v.internal.assign(n_law, 0.0);
+  if (n_law > 0)
+    at_probe(model, probe, [&](double N, int n) {
+      for (int j = 0; j < n_law; ++j)
+        v.internal[j] += N * f.nodal_internal[static_cast<std::size_t>(n) * n_law + j];
+    });
   return v;
 }
 
@@ -91,6 +98,7 @@ void each_number(V& v, F&& f) {
   for (auto* e : {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain})
     for (int c = 0; c < 6; ++c) f((*e)[c]);
   f(v.eps_ep);
+  for (auto& x : v.internal) f(x);
 }
 }  // namespace
 
@@ -101,9 +109,10 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
   const auto& probes = model.probes();
   std::vector<double> probe_numbers;
   for (const Probe& p : probes) {
-    const ProbeValues v = p.cell >= 0 && part.cell_owner[p.cell] == part.rank
-                              ? probe_values(model, p, state, fields)
-                              : ProbeValues{};
+    ProbeValues v = p.cell >= 0 && part.cell_owner[p.cell] == part.rank
+                        ? probe_values(model, p, state, fields)
+                        : ProbeValues{};
+    v.internal.resize(model.law_state_size());  // zeros on the other ranks
     each_number(v, [&](double x) { probe_numbers.push_back(x); });
   }
   // Reactions and the contacts' sums (force, nodes, resultant) over each rank's own nodes; the
@@ -163,6 +172,7 @@ StepValues step_values(const Model& model, const State& state, const RecoveredFi
     t.max_pressure = largest[3 * b + 2];
   }
   out.probes.resize(probes.size());
+  for (ProbeValues& v : out.probes) v.internal.resize(model.law_state_size());
   for (ProbeValues& v : out.probes) each_number(v, [&](double& x) { x = *s++; });
   out.balance = {Vec3(s[0], s[1], s[2]), Vec3(s[3], s[4], s[5]), Vec3(s[6], s[7], s[8]), s[9]};
   // The largest nodal values of all on root (the lowest rank's where two are equal).

@@ -25,6 +25,8 @@ struct ProbeValues {
   Voigt strain = Voigt::Zero(), elastic_strain = Voigt::Zero(), plastic_strain = Voigt::Zero(),
         thermal_strain = Voigt::Zero();
   double eps_ep = 0;  ///< ε̃^{e+p}
+  /// The point law's internal variables (Model::law_variables), in its state's order.
+  std::vector<double> internal;
 };
 ProbeValues probe_values(const Model& model, const Probe& probe, const State& state,
                          const std::vector<Voigt>& nodal_stress,

@@ -76,6 +76,7 @@ State Equilibrium::initial_state() const {
   s.eps_ep.assign(n_pts, 0.0);
   s.eps_ep_max.assign(n_pts, 0.0);
   s.flowing.assign(n_pts, 0);
+  s.internal.assign(static_cast<std::size_t>(n_pts) * m_.law_state_size(), 0.0);
   iterate_.contact().initial(s);
   return s;
 }

@@ -22,7 +22,7 @@ bool all_finite(const State& s) {
   };
   return finite(s.f_ext) && finite(s.u) && finite(s.stress) && finite(s.temperature) &&
          finite(s.plastic_strain) && finite(s.eps_p_eq) && finite(s.eps_ep) && finite(s.f_int) &&
-         finite(s.f_contact);
+         finite(s.f_contact) && finite(s.internal);
 }
 
 void throw_not_finite(const Model& m, const State& s, int iteration, double residual) {

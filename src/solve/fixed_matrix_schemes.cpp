@@ -73,7 +73,8 @@ class InitialStrain final : public FixedMatrixScheme {
   bool uses_strain_form() const override { return true; }
   bool iterates_initial_strain() const override { return true; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
-                       const Voigt& sigma0, const Voigt& x) const override {
+                       const Voigt& sigma0, const Voigt& x,
+                       const LawState& /*law*/) const override {
     const double three_g = ps.curve.three_g;
     PointIteration memory = it;
     AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x);
@@ -170,7 +171,8 @@ class InitialStress final : public FixedMatrixScheme {
                                     : SchemeKind::initial_stress,
                           stiffness) {}
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
-                       const Voigt& sigma0, const Voigt& x) const override {
+                       const Voigt& sigma0, const Voigt& x,
+                       const LawState& /*law*/) const override {
     const double three_g = ps.curve.three_g;
     PointIteration memory = it;
     const AlongZ a = along_z_of_fixed_matrix(k1, ps, memory, sigma0, x);

@@ -113,11 +113,14 @@ void Model::bind_materials(Log& log) {
   const auto& specs = case_->materials;
   cell_material_.assign(mesh_.cells.size(), -1);
   for (std::size_t m = 0; m < specs.size(); ++m) {
-    materials_.push_back(MaterialModel{&specs[m], nullptr, true});
+    materials_.push_back(MaterialModel{&specs[m], nullptr, true, nullptr});
     if (const auto& pl = specs[m].plasticity) {
       materials_.back().hardening = std::make_shared<Hardening>(*pl, specs[m].E, specs[m].nu);
       materials_.back().elastic_unloading =
           pl->unloading == PlasticitySpec::Unloading::elastic;
+      materials_.back().law = make_point_law(*pl);
+      check_scheme(specs[m], *materials_.back().law);
+      bind_law_state(specs[m], materials_.back().law);
     }
     if (specs[m].regions.empty()) {
       std::fill(cell_material_.begin(), cell_material_.end(), static_cast<int>(m));
@@ -175,6 +178,37 @@ bool Model::region_names_ignore_case() const {
   std::string ext = case_->mesh.file.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".inp";
+}
+
+/// The report's five schemes need its structure, one isotropic curve along Z: a law without it
+/// runs under newton alone.
+void Model::check_scheme(const MaterialSpec& mat, const PointLaw& law) const {
+  const SolverSpec& solver = case_->solver;
+  if (law.runs_report_schemes() || solver.scheme == SchemeKind::newton) return;
+  throw InputError(mat.plasticity->law.where,
+                   fmt::format("material '{}' has {} hardening, which solver.scheme '{}' cannot "
+                               "run: the report's schemes need one isotropic curve along the "
+                               "flow direction Z; use scheme: newton",
+                               mat.name, mat.plasticity->law.law, scheme_name(solver.scheme)));
+}
+
+/// The state each point keeps for its law: one law with internal variables per model (the
+/// outputs name its variables; two such laws would need a layout per material).
+void Model::bind_law_state(const MaterialSpec& mat, const std::shared_ptr<const PointLaw>& law) {
+  if (law->state_size() == 0) return;
+  const auto same = [](std::span<const LawVariable> a, std::span<const LawVariable> b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
+      return x.name == y.name && x.size == y.size;
+    });
+  };
+  if (points_.stateful && !same(points_.stateful->variables(), law->variables()))
+    throw InputError(mat.plasticity->law.where,
+                     fmt::format("material '{}' has {} hardening, and another material a "
+                                 "different law with internal variables: one such law per "
+                                 "model is supported",
+                                 mat.name, mat.plasticity->law.law));
+  if (!points_.stateful) points_.stateful = law;
+  points_.law_state = std::max(points_.law_state, law->state_size());
 }
 
 bool Model::has_plasticity() const {

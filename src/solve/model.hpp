@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "linalg/sparse_solver.hpp"
 #include "material/elastic.hpp"
 #include "material/hardening.hpp"
+#include "material/point_law.hpp"
 #include "mesh/mesh.hpp"
 #include "parallel/mesh_part.hpp"
 #include "parallel/nodal_layout.hpp"
@@ -34,6 +36,9 @@ struct MaterialModel {
   /// The hardening curve of a plastic material (shared: MaterialModel is copied).
   std::shared_ptr<const Hardening> hardening;
   bool elastic_unloading = true;
+  /// The point law of a plastic material (material/point_law.hpp): von Mises with the isotropic
+  /// curve, or the law its keys selected.
+  std::shared_ptr<const PointLaw> law;
   bool plastic() const { return hardening != nullptr; }
   /// E, ν, α at temperature T; *outside is set when T leaves a property's table. Thread-safe.
   ElasticConstants at(double T, bool* outside = nullptr) const;
@@ -158,6 +163,14 @@ class Model {
   const std::vector<ContactBody>& contacts() const { return contacts_; }
   /// Some material has a hardening curve.
   bool has_plasticity() const;
+  /// The numbers of a point law's state each integration point keeps (State::internal): the
+  /// largest over the materials' laws, 0 when no law has internal variables.
+  int law_state_size() const { return points_.law_state; }
+  /// The internal variables of that state, in its order (PointLaw::variables): the outputs'
+  /// names. A model holds one law with internal variables at most (bind_materials).
+  std::span<const LawVariable> law_variables() const {
+    return points_.stateful ? points_.stateful->variables() : std::span<const LawVariable>();
+  }
   /// Whether region names match without regard to case: those of an Abaqus/CalculiX deck do,
   /// as in Abaqus (input/inp_reader.hpp); Gmsh's physical names do not.
   bool region_names_ignore_case() const;
@@ -236,6 +249,8 @@ class Model {
   /// join()'s check that every loaded face is on the outer surface where its two cells (an
   /// inner face's) are on two ranks: each finds one cell at it. Collective.
   void check_outer_faces() const;
+  void check_scheme(const MaterialSpec& mat, const PointLaw& law) const;
+  void bind_law_state(const MaterialSpec& mat, const std::shared_ptr<const PointLaw>& law);
   const Region& find_region(const std::string& name, const SourceLocation& where, int dim_min,
                             int dim_max, const char* what) const;
 
@@ -253,6 +268,8 @@ class Model {
     std::vector<int> offset;              ///< this rank's, per cell and one past the last
     std::vector<long long> whole_offset;  ///< a part's, in the whole mesh's order (join)
     int total = 0;                        ///< over all ranks
+    int law_state = 0;                    ///< law_state_size()
+    std::shared_ptr<const PointLaw> stateful;  ///< the law with internal variables, if any
   };
   struct PrescribedDof {
     int dof;

@@ -72,6 +72,42 @@ void PointPass::temperatures(State& s, Log& log) const {
     if (t_min[k] <= t_max[k]) m_.materials()[k].warn_outside(t_min[k], t_max[k], log);
 }
 
+/// The law's state of point p at t and at the iterate (empty spans without internal variables).
+LawState PointPass::law_state(const State& c, State& trial, int p) const {
+  const std::size_t n = m_.law_state_size(), at = static_cast<std::size_t>(p) * n;
+  if (n == 0) return {};
+  return {std::span<const double>(c.internal).subspan(at, n),
+          std::span<double>(trial.internal).subspan(at, n)};
+}
+
+/// A plastic point whose iterate is elastic (the elastic start): its plastic state is that of
+/// t, and the scheme's memory starts again.
+void PointPass::keep_plastic_state(const State& c, State& trial, int p) {
+  const LawState s = law_state(c, trial, p);
+  std::copy(s.at_t.begin(), s.at_t.end(), s.now.begin());
+  trial.plastic_strain[p] = c.plastic_strain[p];
+  trial.eps_p_eq[p] = c.eps_p_eq[p];
+  trial.eps_ep[p] = c.eps_ep[p];
+  trial.eps_ep_max[p] = c.eps_ep_max[p];
+  trial.flowing[p] = 0;
+  defect_sigma_[p] = defect_eps_[p] = 0;
+  point_iter_[p] = scheme_.start_iteration(point_step_[p]);
+}
+
+/// Under `geometry: updated` the law's tensors turn with the material, as the plastic strain
+/// does: R α Rᵀ for a stress-like tensor (the law works in the frame of the step's
+/// configuration; its state at t+Δt is kept in the frame of the configuration there).
+void PointPass::rotate_law_state(const PointLaw& law, const Mat3& r, State& trial, int p) const {
+  std::size_t at = static_cast<std::size_t>(p) * m_.law_state_size();
+  for (const LawVariable& v : law.variables()) {
+    if (v.size == 6) {
+      Eigen::Map<Voigt> t(trial.internal.data() + at);
+      t = rotate_stress(r, t);
+    }
+    at += v.size;
+  }
+}
+
 /// Per point, what stays fixed during the step (flow direction, start slope, the curve at
 /// t+Δt) and the scheme's initial parameters.
 void PointPass::begin_step(const State& c, const State& trial) {
@@ -83,7 +119,7 @@ void PointPass::begin_step(const State& c, const State& trial) {
     if (!mat.plastic() || !mine(e)) continue;
     for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
       point_step_[p] = scheme_.begin_point_step(
-          trial.constants[p], *mat.hardening, trial.temperature[p], mat.elastic_unloading,
+          trial.constants[p], *mat.law, *mat.hardening, trial.temperature[p], mat.elastic_unloading,
           c.stress[p], c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
   }
 }
@@ -114,7 +150,8 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
       [&](int e, CellBuffers& b) {
         const auto nodes = mesh.cells.nodes(e);
         const int n = static_cast<int>(nodes.size());
-        const bool plastic = m_.material_of(e).plastic();
+        const MaterialModel& mat = m_.material_of(e);
+        const bool plastic = mat.plastic();
         Vec3 x[max_cell_nodes];
         double du[3 * max_cell_nodes];
         for (int a = 0; a < n; ++a) {
@@ -142,13 +179,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
                 elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
                                       trial.temperature[p], c.stress[p], d_eps);
             if (plastic) {
-              trial.plastic_strain[p] = c.plastic_strain[p];
-              trial.eps_p_eq[p] = c.eps_p_eq[p];
-              trial.eps_ep[p] = c.eps_ep[p];
-              trial.eps_ep_max[p] = c.eps_ep_max[p];
-              trial.flowing[p] = 0;
-              defect_sigma_[p] = defect_eps_[p] = 0;
-              point_iter_[p] = scheme_.start_iteration(point_step_[p]);
+              keep_plastic_state(c, trial, p);
               set_tangent(p, Tangent{});  // the elastic matrix
             }
           } else {
@@ -156,7 +187,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
                                              c.constants[p], c.temperature[p], trial.constants[p],
                                              trial.temperature[p], c.stress[p]);
             PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
-                                             c.stress[p], d_mech);
+                                             c.stress[p], d_mech, law_state(c, trial, p));
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);
@@ -179,8 +210,11 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
           if (updated) {
             def.add_force(kin, q, trial.stress[p], kin.dv[q], b.fe);
             trial.stress[p] = def.cauchy(q, trial.stress[p]);
-            if (plastic)
-              trial.plastic_strain[p] = rotate_strain(def.rotation(q), trial.plastic_strain[p]);
+            if (plastic) {
+              const Mat3 r = def.rotation(q);
+              trial.plastic_strain[p] = rotate_strain(r, trial.plastic_strain[p]);
+              rotate_law_state(*mat.law, r, trial, p);
+            }
           } else {
             kin.add_bt_sigma(q, trial.stress[p], kin.dv[q], b.fe);
           }

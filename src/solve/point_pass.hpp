@@ -90,6 +90,9 @@ class PointPass {
   /// Δ^σ and Δ^ε of the report into r, made global.
   void measures(const State& trial, PointPassResult& r) const;
   bool mine(int e) const { return !only_ || (*only_)[e]; }
+  LawState law_state(const State& c, State& trial, int p) const;
+  void keep_plastic_state(const State& c, State& trial, int p);
+  void rotate_law_state(const PointLaw& law, const Mat3& r, State& trial, int p) const;
   /// f(p) for every point of this rank's cells of plastic materials, in the order of the cells.
   template <class F>
   void for_plastic_points(F&& f) const;

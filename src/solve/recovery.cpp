@@ -20,15 +20,19 @@ constexpr int n_tensors = 4;  // σ, ε, ε^e, ε^th
 using PointTensors = std::array<Voigt, n_tensors>;
 
 /// A node's record: the count of cells at it, σ, ε, ε^e, ε^th (6 each, summed over its cells'
-/// extrapolations), then with plasticity ε^p (6), ε̃^p and ε̃^{e+p}.
+/// extrapolations), then with plasticity ε^p (6), ε̃^p, ε̃^{e+p} and the law's internal
+/// variables (`law` numbers, Model::law_state_size()).
 struct NodeRecord {
   static constexpr int count = 0;
   static constexpr int tensors = count + 1;  ///< tensor i at tensors + 6 i
   static constexpr int plastic_strain = tensors + 6 * n_tensors;
   static constexpr int eps_p_eq = plastic_strain + 6;
   static constexpr int eps_ep = eps_p_eq + 1;
+  static constexpr int internal = eps_ep + 1;
   /// Numbers a node: the plastic fields only with plasticity.
-  static constexpr int width(bool plastic) { return plastic ? eps_ep + 1 : plastic_strain; }
+  static constexpr int width(bool plastic, int law) {
+    return plastic ? internal + law : plastic_strain;
+  }
 };
 
 /// A cell's record: the sums over its points of σ (6), σ_vM, ε̃^p and the flowing flag (its
@@ -80,7 +84,8 @@ void add_to_nodes(const Model& model, const State& state, int e, const PointTens
   const auto& tab = reference_table(mesh.cells.type[e]);
   const int p0 = model.point_offset(e);
   const bool plastic = model.has_plasticity();
-  const int width = NodeRecord::width(plastic);
+  const int n_law = model.law_state_size();
+  const int width = NodeRecord::width(plastic, n_law);
   for (std::size_t a = 0; a < nodes.size(); ++a) {
     PointTensors t;
     t.fill(Voigt::Zero());
@@ -102,6 +107,11 @@ void add_to_nodes(const Model& model, const State& state, int e, const PointTens
     for (int k = 0; k < 6; ++k) v[NodeRecord::plastic_strain + k] += eps_p[k];
     v[NodeRecord::eps_p_eq] += eqp;
     v[NodeRecord::eps_ep] += eps_ep;
+    for (int q = 0; q < tab.n_points; ++q) {
+      const double w = tab.extrapolation(static_cast<int>(a), q);
+      const double* s = &state.internal[static_cast<std::size_t>(p0 + q) * n_law];
+      for (int j = 0; j < n_law; ++j) v[NodeRecord::internal + j] += w * s[j];
+    }
   }
 }
 
@@ -119,8 +129,9 @@ void add_cell_sums(const Model& model, const State& state, int e, std::vector<do
 }
 
 /// The nodal fields of `f`: each node's summed record over its count of cells.
-void nodal_means(const std::vector<double>& nodal, int n_nodes, bool plastic, RecoveredFields& f) {
-  const int width = NodeRecord::width(plastic);
+void nodal_means(const std::vector<double>& nodal, int n_nodes, bool plastic, int n_law,
+                 RecoveredFields& f) {
+  const int width = NodeRecord::width(plastic, n_law);
   std::vector<Voigt>* tensors[n_tensors] = {&f.nodal_stress, &f.nodal_strain,
                                             &f.nodal_elastic_strain, &f.nodal_thermal_strain};
   for (auto* t : tensors) t->assign(n_nodes, Voigt::Zero());
@@ -128,6 +139,7 @@ void nodal_means(const std::vector<double>& nodal, int n_nodes, bool plastic, Re
     f.nodal_plastic_strain.assign(n_nodes, Voigt::Zero());
     f.nodal_eps_p_eq.assign(n_nodes, 0.0);
     f.nodal_eps_ep.assign(n_nodes, 0.0);
+    f.nodal_internal.assign(static_cast<std::size_t>(n_nodes) * n_law, 0.0);
   }
   for (int n = 0; n < n_nodes; ++n) {
     const double* v = &nodal[static_cast<std::size_t>(width) * n];
@@ -141,6 +153,9 @@ void nodal_means(const std::vector<double>& nodal, int n_nodes, bool plastic, Re
     // Extrapolation from the points may undershoot next to a plastic zone's edge.
     f.nodal_eps_p_eq[n] = std::max(v[NodeRecord::eps_p_eq] / count, 0.0);
     f.nodal_eps_ep[n] = v[NodeRecord::eps_ep] / count;
+    for (int j = 0; j < n_law; ++j)
+      f.nodal_internal[static_cast<std::size_t>(n) * n_law + j] =
+          v[NodeRecord::internal + j] / count;
   }
 }
 
@@ -168,7 +183,8 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   const auto& mesh = model.mesh();
   const int n_nodes = mesh.n_nodes(), n_cells = mesh.cells.size();
   const bool plastic = model.has_plasticity();
-  const int node_width = NodeRecord::width(plastic);
+  const int n_law = model.law_state_size();
+  const int node_width = NodeRecord::width(plastic, n_law);
   std::vector<double> nodal(static_cast<std::size_t>(node_width) * n_nodes, 0.0);
   std::vector<double> cells(with_cells ? static_cast<std::size_t>(CellRecord::width) * n_cells : 0);
   CellKinematics kin;
@@ -184,7 +200,7 @@ RecoveredFields recover_fields(const Model& model, const State& state, bool with
   // included. The sums go to every rank. A cell's means are its rank's alone.
   model.layout().sum(nodal, node_width);
   RecoveredFields f;
-  nodal_means(nodal, n_nodes, plastic, f);
+  nodal_means(nodal, n_nodes, plastic, n_law, f);
   if (with_cells) cell_means(mesh, cells, f);
   return f;
 }

@@ -21,6 +21,9 @@ struct RecoveredFields {
   std::vector<Voigt> nodal_strain, nodal_elastic_strain, nodal_thermal_strain;
   /// ε̃^{e+p}, the scalar the schemes advance along the curve; empty without plasticity.
   std::vector<double> nodal_eps_ep;
+  /// The point law's internal variables (Model::law_variables), Model::law_state_size()
+  /// numbers per node; empty where no law has any.
+  std::vector<double> nodal_internal;
   /// Per cell: the mean over its points (of σ, of the von Mises stress of each point, of ε̃^p
   /// and of the share of points that flowed in the step).
   std::vector<Voigt> cell_stress;

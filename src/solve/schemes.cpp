@@ -10,10 +10,12 @@
 
 namespace hencky {
 
-PointStep Scheme::begin_point_step(const ElasticConstants& k1, const Hardening& h, double T1,
-                                   bool elastic_unloading, const Voigt& sigma0, double eps_p0,
-                                   bool flowing, PointIteration& it) const {
+PointStep Scheme::begin_point_step(const ElasticConstants& k1, const PointLaw& law,
+                                   const Hardening& h, double T1, bool elastic_unloading,
+                                   const Voigt& sigma0, double eps_p0, bool flowing,
+                                   PointIteration& it) const {
   PointStep ps;
+  ps.law = &law;
   const double three_g = 3 * k1.shear_modulus();
   ps.curve = StepCurve(h, T1, three_g, eps_p0, elastic_unloading);
   ps.flowing = flowing && von_mises(sigma0) > 0;
@@ -51,17 +53,18 @@ namespace {
 
 using namespace scheme_law;
 
-/// The reference: the radial return with its consistent tangent.
+/// The reference: the material's point law with its consistent tangent (for von Mises with the
+/// isotropic curve, the radial return).
 class Newton final : public Scheme {
  public:
   SchemeKind kind() const override { return SchemeKind::newton; }
   MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_iteration; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
-                       const Voigt& sigma0, const Voigt& x) const override {
+                       const Voigt& sigma0, const Voigt& x, const LawState& law) const override {
     const double three_g = ps.curve.three_g;
     const Voigt dx = Tangent{}.times(k1, x);  // D x
     PointUpdate u;
-    const ReturnMapping rr = radial_return(k1, ps.curve, sigma0, x);
+    const ReturnMapping rr = ps.law->update(k1, ps.curve, sigma0, x, law.at_t, law.now);
     const double q = von_mises(rr.sigma), q0 = rr.z.dot(sigma0);
     const double xt = rr.z.dot(dx) / three_g;
     u.sigma = rr.sigma;
@@ -95,7 +98,8 @@ class VariableStiffness final : public Scheme {
   MatrixPolicy matrix_policy() const override { return MatrixPolicy::per_iteration; }
   bool uses_strain_form() const override { return strain_form_; }
   PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps, const PointIteration& it,
-                       const Voigt& sigma0, const Voigt& x) const override {
+                       const Voigt& sigma0, const Voigt& x,
+                       const LawState& /*law*/) const override {
     const double three_g = ps.curve.three_g;
     const AlongZ a = along_z(k1, ps, sigma0, x);
     const bool right = ps.flowing;

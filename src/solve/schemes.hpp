@@ -28,9 +28,11 @@
 //   Z turns from one iteration to the next. With the trial's Z, and ε̃^{e+p}(t) = ε̃^p(t) + Zᵀσ(t)/3G
 //   below, ε̃^{e+p}(t) + Δε̃^{e+p} is ε̃^p(t) + σ̃_tr/3G: the curve's point Φ of the radial return.
 #include <memory>
+#include <span>
 #include <string>
 
 #include "material/plastic_point.hpp"
+#include "material/point_law.hpp"
 #include "spec/case.hpp"
 
 namespace hencky {
@@ -44,8 +46,16 @@ enum class MatrixPolicy {
                   ///< E or ν change with the temperature
 };
 
+/// A point law's internal variables at a point (PointLaw::variables; empty for the isotropic
+/// law): at t, and at the iterate, which the point law writes.
+struct LawState {
+  std::span<const double> at_t;
+  std::span<double> now;
+};
+
 /// What a point keeps fixed during one step.
 struct PointStep {
+  const PointLaw* law = nullptr;  ///< the material's point law
   StepCurve curve;          ///< the curve at t+Δt, with elastic unloading from ε̃^p(t)
   Voigt z = Voigt::Zero();  ///< Mσ(t)/σ̃(t) when flowing at t, else zero (from the trial)
   bool flowing = false;     ///< the point flowed plastically in the step that ended at t
@@ -116,8 +126,8 @@ class Scheme {
   virtual bool uses_strain_form() const { return false; }
 
   /// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
-  PointStep begin_point_step(const ElasticConstants& k1, const Hardening& h, double T1,
-                             bool elastic_unloading, const Voigt& sigma0, double eps_p0,
+  PointStep begin_point_step(const ElasticConstants& k1, const PointLaw& law, const Hardening& h,
+                             double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
                              bool flowing, PointIteration& it) const;
 
   /// The scheme's memory before the first iterate of the step (also after an elastic start:
@@ -127,10 +137,12 @@ class Scheme {
   /// The point law: evaluates iterate k at a point, x = Δε_k − Δε^th, from the point's state
   /// at t (sigma0, ps) and the scheme's memory `it`. Returns the stress σ_k, the plastic
   /// increment, the matrix for the next solve, the defect measures and the memory of the next
-  /// iteration; a pure function of its arguments.
+  /// iteration; a pure function of its arguments but for `law.now`, the law's state at the
+  /// iterate, which it writes (newton, through PointLaw::update; the report's schemes run only
+  /// the isotropic law, which has none).
   virtual PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps,
-                               const PointIteration& it, const Voigt& sigma0,
-                               const Voigt& x) const = 0;
+                               const PointIteration& it, const Voigt& sigma0, const Voigt& x,
+                               const LawState& law) const = 0;
 
  protected:
   /// tan β of iteration 0 at a point whose start slope is tan0.

@@ -31,6 +31,10 @@ struct State {
   std::vector<double> eps_ep;         ///< ε̃^{e+p}, the scalar the schemes advance
   std::vector<double> eps_ep_max;     ///< the largest ε̃^{e+p} reached
   std::vector<std::uint8_t> flowing;  ///< 1: flowed plastically in the step that ended here
+  /// The point laws' internal variables (PointLaw::variables, e.g. the back stress):
+  /// Model::law_state_size() numbers per point, from index p·law_state_size(); empty when no
+  /// law has any.
+  std::vector<double> internal;
   // Contact (report section 3):
   std::vector<double> f_contact;  ///< forces of the rigid supports on the nodes, 3 per node
   std::vector<std::vector<ContactNode>> contact;  ///< per contact, per contact point

@@ -6,6 +6,7 @@
 // messages and the *_where locations below).
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -70,8 +71,20 @@ struct CurveSpec {
   SourceLocation where;  ///< the curve (or perfect / linear / ramberg_osgood) entry
 };
 
+/// The keys a point law reads under `plasticity:` besides the isotropic curve, as the law
+/// declares them (material/point_law.hpp): per key, a list of groups of named fields, each a
+/// number or a temperature table. `law` names the registered law those keys selected; empty for
+/// von Mises with the isotropic curve alone.
+struct LawParameters {
+  using Group = std::map<std::string, PropertyTable>;
+  std::string law;
+  std::map<std::string, std::vector<Group>> keys;
+  SourceLocation where;  ///< the key that selected the law
+};
+
 struct PlasticitySpec {
   CurveSpec curve;
+  LawParameters law;  ///< a point law's own keys (kinematic hardening, ...)
   /// elastic: unloading and reloading below the largest intensity reached follow a line of
   /// slope 3G (the report's elastic unloading); curve: unloading follows the curve back
   /// (deformation theory, nonlinear elastic).

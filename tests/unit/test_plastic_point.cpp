@@ -18,6 +18,7 @@ PropertyTable constant(double v) {
 }
 
 const ElasticConstants steel{2.0e11, 0.3, 0.0};
+const IsotropicLaw isotropic;
 
 PlasticitySpec linear_spec(double yield, double hardening) {
   PlasticitySpec s;
@@ -138,14 +139,15 @@ struct UniaxialPath {
   void run(double d_axial) {
     const double three_g = 3 * steel.shear_modulus();
     PointIteration it;
-    const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma, eps_p_eq, flowing, it);
+    const PointStep ps =
+        s->begin_point_step(steel, isotropic, h, 20, true, sigma, eps_p_eq, flowing, it);
     Voigt x = Voigt::Zero();
     x[0] = d_axial;
     x[1] = x[2] = -steel.nu * d_axial;
     PointUpdate u;
     for (int k = 0; k < 400; ++k) {
       PointIteration probe = it;
-      u = s->evaluate(steel, ps, it, sigma, x);
+      u = s->evaluate(steel, ps, it, sigma, x, {});
       if (!u.undefined) it = u.next;
       // lateral equilibrium: σ22 = σ33 = 0 by a secant-free 2x2 Newton on the current law
       Eigen::Matrix2d J;
@@ -153,7 +155,7 @@ struct UniaxialPath {
         PointIteration tmp = probe;
         Voigt xp = x;
         xp[1 + j] += 1e-9;
-        const Voigt sp = s->evaluate(steel, ps, tmp, sigma, xp).sigma;
+        const Voigt sp = s->evaluate(steel, ps, tmp, sigma, xp, {}).sigma;
         J(0, j) = (sp[1] - u.sigma[1]) / 1e-9;
         J(1, j) = (sp[2] - u.sigma[2]) / 1e-9;
       }
@@ -288,13 +290,13 @@ TEST(PlasticPoint, EverySchemeGivesTheRadialReturnOfATurningStress) {
     const auto s = make_scheme(v.kind, v.form, 0.0);  // relaxation: auto
     SCOPED_TRACE(std::string(s->name()) + (v.form == CurveForm::strain ? " (strain form)" : ""));
     PointIteration it;
-    const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, true, it);
+    const PointStep ps = s->begin_point_step(steel, isotropic, h, 20, true, sigma0, 0.0, true, it);
     ASSERT_LT(ps.z.dot(Tangent{}.times(steel, x)), 0);                // unloading along Z(t)
     ASSERT_GT(von_mises(sigma0 + Tangent{}.times(steel, x)), yield);  // outside the surface
-    PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
+    PointUpdate u = s->evaluate(steel, ps, it, sigma0, x, {});
     // the strain held: the point's own iteration (the stress forms land at once)
     for (int k = 0; k < 100 && std::abs(u.defect_sigma) + std::abs(u.defect_eps) > 0; ++k)
-      u = s->evaluate(steel, ps, u.next, sigma0, x);
+      u = s->evaluate(steel, ps, u.next, sigma0, x, {});
     EXPECT_TRUE(u.plastic);
     EXPECT_LE((u.sigma - rr.sigma).norm(), 1e-9 * yield);
     EXPECT_NEAR(u.d_lambda, rr.d_lambda, 1e-9 * rr.d_lambda);
@@ -320,9 +322,10 @@ TEST(PlasticPoint, InitialStrainHeldPointsKeepTheirBranch) {
       x[3] = (reach - 0.5) * tau / steel.shear_modulus();
       for (int held : {0, 1, -1}) {
         PointIteration it;
-        const PointStep ps = s->begin_point_step(steel, h, 20, true, sigma0, 0.0, false, it);
+        const PointStep ps =
+            s->begin_point_step(steel, isotropic, h, 20, true, sigma0, 0.0, false, it);
         it.held = static_cast<signed char>(held);
-        const PointUpdate u = s->evaluate(steel, ps, it, sigma0, x);
+        const PointUpdate u = s->evaluate(steel, ps, it, sigma0, x, {});
         const bool plastic = held == 0 ? reach > 1 : held > 0;
         EXPECT_EQ(u.plastic, plastic) << "reach " << reach << " held " << held;
         EXPECT_EQ(u.next.breaks_hold, held != 0 && plastic != (reach > 1))
