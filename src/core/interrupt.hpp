@@ -1,5 +1,5 @@
 #pragma once
-// A request to stop the run, from the command line's SIGINT/SIGTERM handler (app/main.cpp): the
+// A request to stop the run, from the command line's SIGINT/SIGTERM handler (app/run.cpp): the
 // step loop and the heat analysis look at it between iterations, stop, and keep every step that
 // converged (exit status 4, docs/cli.md).
 #include <stdexcept>

@@ -86,7 +86,7 @@ class Model {
   /// part alone. The checks that need the whole mesh (a region empty, a probe outside the
   /// mesh, a body without supports) and the figures of the whole (a total force's area, the
   /// owner of a probe, the global counts) come with join(), which must follow on every rank.
-  /// Not collective: a rank that throws here lets the others know before join (app/main.cpp,
+  /// Not collective: a rank that throws here lets the others know before join (app/together.hpp,
   /// together()).
   Model(const Case& c, MeshPart part, Log& log);
   /// Completes a part model with what the ranks know together (above), and makes the whole

@@ -1,6 +1,6 @@
 #pragma once
 // The iteration schemes of the formulation (report 2.32-2.46) and the reference `newton`, as
-// point laws. The step loop (analysis.cpp) is written once in residual form:
+// point laws. The equilibrium iteration (equilibrium.cpp) is written once in residual form:
 //
 //   K_k δ = F_target − F_int(σ_k),   Δu_{k+1} = Δu_k + δ,
 //

@@ -354,7 +354,7 @@ TEST(VerifyPlasticSchemes, ThickCylinderRambergOsgoodOneStep) {
 // (b) Linear hardening over four plastic steps (0.5 p_L elastic, then to 0.8 p_L in steps of
 // 0.075 p_L): points that flow in one step start the next one flowing, and the path is not
 // proportional (σ_z drifts as the wall yields). Every scheme sees each iterate along the
-// direction of its trial stress (schemes.cpp, `Direction`) and so solves newton's discrete
+// direction of its trial stress (scheme_law.hpp, `along_z`) and so solves newton's discrete
 // problem: each agrees with newton within the bound of (a). With the report's explicit Z(t),
 // which the initial strains kept before, they differed from newton by O(Δt): 2.8e-4 of the
 // displacement field here, 1.2e-4 and 5.7e-5 with 8 and 16 steps.

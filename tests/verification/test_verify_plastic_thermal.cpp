@@ -309,7 +309,7 @@ BarMaterial constant_bar(double hardening) {
 // - initial-strain, initial-strain-stiffness (perfect plasticity): they need F = ε(σ), which
 //   does not exist at σ̃ = σ_y of a flat curve (docs/schemes.md, Limits); the case is refused
 //   when it is read, with a message that names the schemes that can run it.
-// The -stiffness schemes owe this to two decisions in src/solve/schemes.cpp, which this test
+// The -stiffness schemes owe this to two decisions in src/solve/scheme_law.cpp, which this test
 // was written to expose (before them their outcome here depended on round-off):
 //   · the start slope tan β*_0 of a point that flowed is the curve's loading slope even when
 //     σ̃(t) lies an ulp below the yield stress H(ε̃^p) (before: 3G for an ulp below, the curve's
