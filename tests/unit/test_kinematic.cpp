@@ -6,25 +6,12 @@
 #include <random>
 
 #include "material/kinematic.hpp"
+#include "point_support.hpp"
 
 namespace hencky {
 namespace {
 
-PropertyTable constant(double v) {
-  PropertyTable p;
-  p.value = {v};
-  return p;
-}
-
-const ElasticConstants steel{2.0e11, 0.3, 0.0};
-
-PlasticitySpec linear_spec(double yield, double hardening) {
-  PlasticitySpec s;
-  s.curve.kind = CurveSpec::Kind::linear;
-  s.curve.yield = constant(yield);
-  s.curve.hardening = constant(hardening);
-  return s;
-}
+using namespace point_support;
 
 TEST(KinematicHardening, TangentMatchesFiniteDifferences) {
   const Hardening h(linear_spec(2.5e8, 1e9), constant(steel.E), constant(steel.nu));

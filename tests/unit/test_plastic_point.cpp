@@ -6,27 +6,14 @@
 #include <random>
 
 #include "material/plastic_point.hpp"
+#include "point_support.hpp"
 #include "solve/schemes.hpp"
 
 namespace hencky {
 namespace {
 
-PropertyTable constant(double v) {
-  PropertyTable p;
-  p.value = {v};
-  return p;
-}
-
-const ElasticConstants steel{2.0e11, 0.3, 0.0};
+using namespace point_support;
 const IsotropicLaw isotropic;
-
-PlasticitySpec linear_spec(double yield, double hardening) {
-  PlasticitySpec s;
-  s.curve.kind = CurveSpec::Kind::linear;
-  s.curve.yield = constant(yield);
-  s.curve.hardening = constant(hardening);
-  return s;
-}
 
 Voigt random_voigt(std::mt19937& g, double scale) {
   std::uniform_real_distribution<double> d(-1, 1);
