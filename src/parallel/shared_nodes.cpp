@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/invariant.hpp"
 #include "parallel/mpi.hpp"
 
 namespace hencky {
@@ -89,8 +90,8 @@ SharedNodes share_nodes(std::span<const long long> tags) {
     for (std::size_t i = 0; i < n; ++i) {
       const int m = meeting(tags[i]);
       const long long k = got[m].at(at[m]++);
-      if (out.owner[i] == me && k != out.owner_index[i])
-        throw std::logic_error("share_nodes: an owner's index came back changed");
+      HENCKY_VERIFY(out.owner[i] != me || k == out.owner_index[i],
+                    "share_nodes: an owner's index came back changed");
       out.owner_index[i] = static_cast<int>(k);
     }
   }
