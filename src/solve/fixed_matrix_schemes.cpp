@@ -56,7 +56,7 @@ class FixedMatrixScheme : public Scheme {
 /// iterate takes its multiplier λ_k along its own Z from the plastic strain that Δε^0 gives,
 /// corrects it by ω times the curve's defect, and sets Δε^0 to give Zλ_{k+1}. The stress is
 /// linear in the iterate for a fixed Δε^0, which Anderson's mixing of Δε^0 relies on
-/// (Equilibrium::mix); mixing the scalar λ0 while Z turned had doubled the residual every
+/// (Mixing::mix); mixing the scalar λ0 while Z turned had doubled the residual every
 /// fourth iteration (the ball indentation stopped with status 2).
 /// A held point (PointIteration::held) takes one branch of the curve whatever its iterate's
 /// stress, and says when its stress lies beyond the yield stress by more than `hold_slack`

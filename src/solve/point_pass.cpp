@@ -164,7 +164,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
         kin.compute(table, std::span<const Vec3>(x, n));
         CellDeformation& def = thread_deformation();
         // A cell turned inside out by the iterate has no strain: the step fails
-        // (Equilibrium::evaluate) and is cut back. The undeformed mesh was checked when the
+        // (IterateEvaluator::evaluate) and is cut back. The undeformed mesh was checked when the
         // model was made, and each step's start is a converged iterate.
         if (updated && !(def.compute(kin, du) > 0)) {
           int none = -1;

@@ -284,7 +284,7 @@ struct SolverSpec {
   CurveForm curve_form = CurveForm::stress;  ///< variable-stiffness only
   StepTimes times;                    ///< end times of the steps
   /// Iteration limit per step: a number >= 1, or 0 for `auto` (the default): 50 for newton and
-  /// variable-stiffness, 200 for the fixed-matrix schemes (Equilibrium's constructor).
+  /// variable-stiffness, 200 for the fixed-matrix schemes (auto_max_iterations, solve/iteration_policy.cpp).
   int max_iterations = 0;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
   /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
@@ -309,7 +309,7 @@ struct SolverSpec {
   Acceleration acceleration = Acceleration::automatic;
   /// `line_search: auto | none`: `auto` (the default) scales each correction of
   /// variable-stiffness and newton after the first of a step by one secant step on the
-  /// residual's work along it (Equilibrium::line_search); `none` takes the corrections whole,
+  /// residual's work along it (LineSearch, solve/line_search.cpp); `none` takes the corrections whole,
   /// as the report.
   bool line_search = true;
   /// `geometry: small | updated`. `small` (the default): every step on the undeformed mesh.

@@ -77,10 +77,10 @@ done
 # in steps that were converging (182 iterations and one cut-back; 197 and two).
 # variable-stiffness reached its limit of 50 at a residual of 1.2e-5, still falling, and was
 # cut back once in each form: with the limit that goes on while the measures fall steadily
-# (Equilibrium::converging_on) it is not. The initial-strain schemes stalled at first yield
+# (IterationLimit::reached) it is not. The initial-strain schemes stalled at first yield
 # near a relative residual of 1e-4 while 237-285 points changed between plastic and elastic
 # from one iteration to the next (four cut-backs, status 2): they now hold the plastic set
-# after 20 iterations (Equilibrium::hold) and converge without a cut-back.
+# after 20 iterations (HeldPlasticSet::hold) and converge without a cut-back.
 for scheme in newton initial-stress initial-stress-stiffness variable-stiffness \
               variable-stiffness/strain initial-strain initial-strain-stiffness; do
   cv_run unload-all "$scheme"
@@ -126,7 +126,7 @@ done
 # contact changed state seven times while the plastic strains were still far from settled, and
 # its dent was then 4.8e-2 from newton's, on other steps); the fixed-matrix schemes now allow a
 # node 24 changes, and the held plastic set moves once its broken holds stand still
-# (Equilibrium::move_holds): no cut-back.
+# (HeldPlasticSet::move): no cut-back.
 for scheme in initial-strain-stiffness initial-strain; do
   cv_run indentation-unload "$scheme"
   if same_dent "$h_newton" "$h"; then ok "indentation-unload, $scheme: newton's dent to 1e-5"; else bad "indentation-unload, $scheme: the dent is not newton's"; fi
