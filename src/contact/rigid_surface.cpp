@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "contact/surface_type.hpp"
+
 namespace hencky {
 namespace {
 
@@ -103,6 +105,60 @@ std::unique_ptr<RigidSurface> make_sphere(const Vec3& center, double radius) {
 }
 std::unique_ptr<RigidSurface> make_cylinder(const Vec3& point, const Vec3& axis, double radius) {
   return std::make_unique<Cylinder>(point, axis, radius);
+}
+
+using Kind = SurfaceKey::Kind;
+
+SurfaceDeclaration plane_declaration() {
+  return {.name = "plane",
+          .noun = "a plane",
+          .keys = {{.name = "point",
+                    .kind = Kind::vector,
+                    .description = "a point of the plane",
+                    .example = "[x, y, z]"},
+                   {.name = "normal",
+                    .kind = Kind::unit_vector,
+                    .description = "pointing from the rigid body towards the deformable one",
+                    .example = "[x, y, z]"}},
+          .make = [](const SurfaceParameters& p) {
+            return make_plane(p.vector("point"), p.vector("normal"));
+          }};
+}
+
+SurfaceDeclaration sphere_declaration() {
+  return {.name = "sphere",
+          .noun = "a sphere",
+          .keys = {{.name = "center",
+                    .kind = Kind::vector,
+                    .description = "the centre of the rigid ball",
+                    .example = "[x, y, z]"},
+                   {.name = "radius",
+                    .kind = Kind::positive,
+                    .description = "the radius of the rigid ball",
+                    .example = "r"}},
+          .make = [](const SurfaceParameters& p) {
+            return make_sphere(p.vector("center"), p.number("radius"));
+          }};
+}
+
+SurfaceDeclaration cylinder_declaration() {
+  return {.name = "cylinder",
+          .noun = "a cylinder",
+          .keys = {{.name = "point",
+                    .kind = Kind::vector,
+                    .description = "a point of the cylinder's axis",
+                    .example = "[x, y, z]"},
+                   {.name = "axis",
+                    .kind = Kind::unit_vector,
+                    .description = "the direction of the axis",
+                    .example = "[x, y, z]"},
+                   {.name = "radius",
+                    .kind = Kind::positive,
+                    .description = "the radius of the rigid cylinder",
+                    .example = "r"}},
+          .make = [](const SurfaceParameters& p) {
+            return make_cylinder(p.vector("point"), p.vector("axis"), p.number("radius"));
+          }};
 }
 
 }  // namespace hencky

@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "contact/stl_file.hpp"
+#include "contact/surface_type.hpp"
 #include "core/error.hpp"
 
 namespace hencky {
@@ -519,6 +520,25 @@ std::optional<SurfacePoint> StlSurface::intersection(const Vec3& a, const Vec3& 
 
 std::unique_ptr<RigidSurface> make_stl_surface(const fs::path& file, double scale) {
   return std::make_unique<StlSurface>(file, scale);
+}
+
+SurfaceDeclaration stl_mesh_declaration() {
+  using Kind = SurfaceKey::Kind;
+  return {.name = "mesh",
+          .noun = "an STL body",
+          .keys = {{.name = "file",
+                    .kind = Kind::file,
+                    .description = "a closed triangulated body in STL (ASCII or binary)",
+                    .example = "body.stl",
+                    .file_kind = "STL file"},
+                   {.name = "scale",
+                    .kind = Kind::positive,
+                    .description = "a factor on the STL coordinates",
+                    .example = "1",
+                    .fallback = 1.0}},
+          .make = [](const SurfaceParameters& p) {
+            return make_stl_surface(p.path("file"), p.number("scale"));
+          }};
 }
 
 }  // namespace hencky

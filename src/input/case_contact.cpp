@@ -1,9 +1,12 @@
-// The contact section: rigid surfaces (plane, sphere, cylinder, STL mesh) touched by the nodes
-// of a region, their motion and the penalty settings.
+// The contact section: rigid surfaces touched by the nodes of a region, their motion and the
+// penalty settings. The surface types and their keys are the registered ones
+// (contact/surface_type.hpp), read here from their declarations.
 #include <cmath>
 #include <map>
+#include <string_view>
 #include <system_error>
 
+#include "contact/surface_type.hpp"
 #include "input/case_sections.hpp"
 
 namespace hencky::case_input {
@@ -14,69 +17,114 @@ namespace {
 
 const std::vector<std::string> contact_keys = {"name",   "nodes",     "surface",
                                                "motion", "stiffness", "penetration"};
-const std::vector<std::string> surface_kinds = {"plane", "sphere", "cylinder", "mesh"};
-const std::vector<std::string> plane_keys = {"point", "normal"};
-const std::vector<std::string> sphere_keys = {"center", "radius"};
-const std::vector<std::string> cylinder_keys = {"point", "axis", "radius"};
-const std::vector<std::string> stl_keys = {"file", "scale"};
 
-const KeySection sections[] = {
-    {"contact[i]", &contact_keys},
-    {"contact[i].surface", &surface_kinds},
-    {"contact[i].surface.plane", &plane_keys},
-    {"contact[i].surface.sphere", &sphere_keys},
-    {"contact[i].surface.cylinder", &cylinder_keys},
-    {"contact[i].surface.mesh", &stl_keys},
+/// The registered surface types (contact/surface_type.hpp), their names and keys as the
+/// reader's sections want them (Map compares a section's table by address: built in place,
+/// never copied), and the lists the messages give.
+struct SurfaceTables {
+  std::vector<std::string> names;              ///< plane, sphere, ...
+  std::vector<std::vector<std::string>> keys;  ///< each type's keys
+  std::vector<std::string> section_names;      ///< contact[i].surface.<type>
+  std::vector<KeySection> sections;
+  std::string names_listed;  ///< 'plane', 'sphere', 'cylinder', 'mesh'
+  std::string names_or;      ///< plane, sphere, cylinder or mesh
+  std::string names_bar;     ///< plane|sphere|cylinder|mesh
+  std::string sketches;      ///< {plane: ...}, ... or {mesh: {file: ...}}
+
+  SurfaceTables() {
+    const auto& types = surface_types();
+    for (const SurfaceDeclaration& type : types) {
+      names.push_back(type.name);
+      keys.emplace_back();
+      for (const SurfaceKey& key : type.keys) keys.back().push_back(key.name);
+      section_names.push_back("contact[i].surface." + type.name);
+    }
+    sections = {{"contact[i]", &contact_keys}, {"contact[i].surface", &names}};
+    for (std::size_t i = 0; i < types.size(); ++i)
+      sections.push_back({section_names[i].c_str(), &keys[i]});
+    for (std::size_t i = 0; i < types.size(); ++i) {
+      const bool first = i == 0, last = i + 1 == types.size();
+      const std::string comma = first ? "" : last ? " or " : ", ";
+      names_listed += (first ? "'" : ", '") + types[i].name + "'";
+      names_or += comma + types[i].name;
+      names_bar += (first ? "" : "|") + types[i].name;
+      // A type with one required key shows it: {mesh: {file: ...}}.
+      std::vector<std::string> required;
+      for (const SurfaceKey& key : types[i].keys)
+        if (!key.fallback) required.push_back(key.name);
+      const std::string inner = required.size() == 1 ? "{" + required[0] + ": ...}" : "...";
+      sketches += comma + "{" + types[i].name + ": " + inner + "}";
+    }
+  }
+  SurfaceTables(const SurfaceTables&) = delete;
+  SurfaceTables& operator=(const SurfaceTables&) = delete;
 };
 
+const SurfaceTables& surface_tables() {
+  static const SurfaceTables t;
+  return t;
+}
+
+/// "a sphere {center: [x, y, z], radius: r}"
+std::string sketch(const SurfaceDeclaration& type) {
+  const bool vowel = std::string_view("aeiou").find(type.name.front()) != std::string_view::npos;
+  std::string s = (vowel ? "an " : "a ") + type.name + " {";
+  for (std::size_t k = 0; k < type.keys.size(); ++k)
+    s += (k ? ", " : "") + type.keys[k].name + ": " + type.keys[k].example;
+  return s + "}";
+}
+
 /// A unit direction from a list of 3 numbers (not all zero).
-Vec3 unit_vector(const Reader& r, const Val& v, const char* what) {
+Vec3 unit_vector(const Reader& r, const Val& v, const std::string& what) {
   const Vec3 d = r.vec3(v);
-  if (!(d.norm() > 0)) r.fail(v, std::string("expected a non-zero ") + what + ", found [0, 0, 0]");
+  if (!(d.norm() > 0)) r.fail(v, "expected a non-zero " + what + ", found [0, 0, 0]");
   return d.normalized();
 }
 
-/// contact[i].surface: one of plane, sphere, cylinder, mesh.
-void read_surface(const Reader& r, const Val& surface, ContactSpec& c) {
-  c.surface_where = r.at(surface);
-  Map sm(r, surface, surface_kinds,
-         "a surface {plane: ...}, {sphere: ...}, {cylinder: ...} or {mesh: {file: ...}}");
-  std::vector<std::string> given;
-  for (const auto& k : surface_kinds)
-    if (sm.has(k)) given.push_back(k);
-  if (given.empty())
-    r.fail(surface, "expected one of 'plane', 'sphere', 'cylinder', 'mesh', found an empty map");
-  if (given.size() > 1)
-    throw InputError(r.at(sm.key_mark(given[1]), sm.get(given[1])->path),
-                     "a contact has one surface, found both '" + given[0] + "' and '" + given[1] +
+/// A key's value, read and checked by its kind.
+SurfaceValue read_surface_value(const Reader& r, const Val& v, const SurfaceKey& key) {
+  switch (key.kind) {
+    case SurfaceKey::Kind::vector:
+      return r.vec3(v);
+    case SurfaceKey::Kind::unit_vector:
+      return unit_vector(r, v, key.name);
+    case SurfaceKey::Kind::positive:
+      return r.positive(v);
+    case SurfaceKey::Kind::file: {
+      fs::path file = r.resolve(r.string(v, "a file name"));
+      std::error_code ec;
+      if (!fs::is_regular_file(file, ec))
+        r.fail(v, key.file_kind + " '" + file.string() + "' not found");
+      return file;
+    }
+  }
+  r.fail(v, "unknown kind of surface key");  // not reached: every kind is handled above
+}
+
+/// contact[i].surface: one of the registered surface types, with its keys.
+void read_surface(const Reader& r, const Val& surface, SurfaceParameters& s) {
+  const SurfaceTables& t = surface_tables();
+  s.where = r.at(surface);
+  Map sm(r, surface, t.names, "a surface " + t.sketches);
+  std::vector<std::size_t> given;
+  for (std::size_t i = 0; i < t.names.size(); ++i)
+    if (sm.has(t.names[i])) given.push_back(i);
+  if (given.empty()) r.fail(surface, "expected one of " + t.names_listed + ", found an empty map");
+  const std::string& name = t.names[given[0]];
+  if (given.size() > 1) {
+    const std::string& second = t.names[given[1]];
+    throw InputError(r.at(sm.key_mark(second), sm.get(second)->path),
+                     "a contact has one surface, found both '" + name + "' and '" + second +
                          "'; write another contact entry");
-  const Val g = *sm.get(given[0]);
-  if (given[0] == "plane") {
-    c.shape = ContactSpec::Shape::plane;
-    Map pm(r, g, plane_keys, "a plane {point: [x, y, z], normal: [x, y, z]}");
-    c.point = r.vec3(pm.require(r, "point", "a point of the plane"));
-    c.normal = unit_vector(
-        r, pm.require(r, "normal", "pointing from the rigid body towards the deformable one"),
-        "normal");
-  } else if (given[0] == "sphere") {
-    c.shape = ContactSpec::Shape::sphere;
-    Map pm(r, g, sphere_keys, "a sphere {center: [x, y, z], radius: r}");
-    c.center = r.vec3(pm.require(r, "center", "the centre of the rigid ball"));
-    c.radius = r.positive(pm.require(r, "radius", "the radius of the rigid ball"));
-  } else if (given[0] == "cylinder") {
-    c.shape = ContactSpec::Shape::cylinder;
-    Map pm(r, g, cylinder_keys, "a cylinder {point: [x, y, z], axis: [x, y, z], radius: r}");
-    c.point = r.vec3(pm.require(r, "point", "a point of the cylinder's axis"));
-    c.axis = unit_vector(r, pm.require(r, "axis", "the direction of the axis"), "axis");
-    c.radius = r.positive(pm.require(r, "radius", "the radius of the rigid cylinder"));
-  } else {
-    c.shape = ContactSpec::Shape::mesh;
-    Map pm(r, g, stl_keys, "a mesh {file: body.stl, scale: 1}");
-    const Val f = pm.require(r, "file", "a closed triangulated body in STL (ASCII or binary)");
-    c.file = r.resolve(r.string(f, "a file name"));
-    std::error_code ec;
-    if (!fs::is_regular_file(c.file, ec)) r.fail(f, "STL file '" + c.file.string() + "' not found");
-    if (auto x = pm.get("scale")) c.scale = r.positive(*x);
+  }
+  const SurfaceDeclaration& type = surface_types()[given[0]];
+  s.type = type.name;
+  Map pm(r, *sm.get(name), t.keys[given[0]], sketch(type));
+  for (const SurfaceKey& key : type.keys) {
+    const std::optional<Val> v =
+        key.fallback ? pm.get(key.name) : pm.require(r, key.name, key.description);
+    s.values[key.name] = v ? SurfaceParameters::Entry{read_surface_value(r, *v, key), r.at(*v)}
+                           : SurfaceParameters::Entry{*key.fallback, SourceLocation{}};
   }
 }
 
@@ -94,7 +142,7 @@ void read_penalty(const Reader& r, const Map& m, ContactSpec& c) {
 }  // namespace
 
 std::span<const KeySection> contact_sections() {
-  return sections;
+  return surface_tables().sections;
 }
 
 std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
@@ -104,7 +152,8 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Val& item = items[i];
     Map m(r, item, contact_keys,
-          "a contact {name: ..., nodes: <region>, surface: {plane|sphere|cylinder|mesh: ...}}");
+          "a contact {name: ..., nodes: <region>, surface: {" + surface_tables().names_bar +
+              ": ...}}");
     ContactSpec c;
     c.where = r.at(item);
     c.name = "contact" + std::to_string(i);
@@ -129,9 +178,8 @@ std::vector<ContactSpec> read_contact(const Reader& r, const Val& v) {
     c.nodes = r.string(nodes, "a region name");
     c.nodes_where = r.at(nodes);
 
-    const Val surface =
-        m.require(r, "surface", "the rigid surface: plane, sphere, cylinder or mesh");
-    read_surface(r, surface, c);
+    const Val surface = m.require(r, "surface", "the rigid surface: " + surface_tables().names_or);
+    read_surface(r, surface, c.surface);
     if (auto x = m.get("motion")) {
       auto items3 = r.list3(*x, "numbers or expressions in t");
       for (int k = 0; k < 3; ++k) {

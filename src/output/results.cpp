@@ -13,7 +13,10 @@
 #include <cstring>
 #include <exception>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
+#include "contact/surface_type.hpp"
 #include "core/error.hpp"
 #include "output/tensor_order.hpp"
 
@@ -27,23 +30,19 @@ std::array<const Voigt*, 4> strains_of(const ProbeValues& v) {
   return {&v.strain, &v.elastic_strain, &v.plastic_strain, &v.thermal_strain};
 }
 /// The rigid surface where it starts (its `motion` moves it), for summary.json: what
-/// scripts/render.py needs to draw it.
-nlohmann::json surface_json(const ContactSpec& c) {
-  const auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
-  switch (c.shape) {
-    case ContactSpec::Shape::plane:
-      return {{"shape", "plane"}, {"point", vec(c.point)}, {"normal", vec(c.normal)}};
-    case ContactSpec::Shape::sphere:
-      return {{"shape", "sphere"}, {"center", vec(c.center)}, {"radius", c.radius}};
-    case ContactSpec::Shape::cylinder:
-      return {{"shape", "cylinder"},
-              {"point", vec(c.point)},
-              {"axis", vec(c.axis)},
-              {"radius", c.radius}};
-    case ContactSpec::Shape::mesh:
-      return {{"shape", "mesh"}, {"file", c.file.string()}, {"scale", c.scale}};
-  }
-  return {};
+/// scripts/render.py needs to draw it, as its type describes it (contact/surface_type.hpp).
+nlohmann::json surface_json(const SurfaceParameters& surface) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, value] : surface_type(surface.type).describe(surface))
+    std::visit(
+        [&j, &key](const auto& v) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Vec3>)
+            j[key] = nlohmann::json::array({v.x(), v.y(), v.z()});
+          else
+            j[key] = v;
+        },
+        value);
+  return j;
 }
 
 /// An existing output directory is replaced only when it is empty or holds hencky results, so
@@ -324,7 +323,7 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
     history_ << fmt::format(",{:.17g},{:.17g},{:.17g}", m.x() + 0.0, m.y() + 0.0, m.z() + 0.0);
     auto& j = contact_json[model_.contacts()[k].spec->name];
     for (int d = 0; d < 3; ++d) j["motion"][axes[d]] = m[d] + 0.0;  // not -0
-    j["surface"] = surface_json(*model_.contacts()[k].spec);
+    j["surface"] = surface_json(model_.contacts()[k].spec->surface);
   }
   write_law_values(probe_row, probes);
   history_ << '\n';

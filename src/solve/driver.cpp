@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 
+#include "contact/surface_type.hpp"
 #include "core/timer.hpp"
 #include "linalg/petsc_solver.hpp"
 #include "linalg/serial_system.hpp"
@@ -35,7 +36,6 @@ std::string describe_counts(long long nodes, long long cells,
 std::vector<std::string> describe_contact(const Model& model) {
   std::vector<std::string> out;
   for (const ContactBody& b : model.contacts()) {
-    static const char* shapes[] = {"a plane", "a sphere", "a cylinder", "an STL body"};
     const ContactSpec& s = *b.spec;
     double k_lo = INFINITY, k_hi = 0;
     long long points = 0, touching = 0, quadratic = 0;
@@ -59,7 +59,7 @@ std::vector<std::string> describe_contact(const Model& model) {
     std::string line =
         fmt::format("contact '{}': {} nodes of '{}' ({} touching at t = 0{}) on {}", s.name, points,
                     s.nodes, touching, quadratic ? fmt::format(", {} mid-edge", quadratic) : "",
-                    shapes[static_cast<int>(s.shape)]);
+                    surface_type(s.surface.type).noun);
     line += s.stiffness ? fmt::format("; κ = {:.3g}", *s.stiffness)
                         : fmt::format("; κ auto {:.3g} .. {:.3g}", k_lo, k_hi);
     line += fmt::format(", allowed penetration {:g} of the element size", s.penetration);

@@ -10,7 +10,7 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "contact/stl_surface.hpp"
+#include "contact/surface_type.hpp"
 #include "core/invariant.hpp"
 #include "fem/geometry.hpp"
 #include "fem/reference_element.hpp"
@@ -24,14 +24,7 @@ void Model::bind_contact() {
     const Region& region = find_region(spec.nodes, spec.nodes_where, 2, 2, "physical surface");
     ContactBody body;
     body.spec = &spec;
-    switch (spec.shape) {
-      case ContactSpec::Shape::plane: body.surface = make_plane(spec.point, spec.normal); break;
-      case ContactSpec::Shape::sphere: body.surface = make_sphere(spec.center, spec.radius); break;
-      case ContactSpec::Shape::cylinder:
-        body.surface = make_cylinder(spec.point, spec.axis, spec.radius);
-        break;
-      case ContactSpec::Shape::mesh: body.surface = make_stl_surface(spec.file, spec.scale); break;
-    }
+    body.surface = surface_type(spec.surface.type).make(spec.surface);
     // A part's points are bound in join(): their areas, element sizes and stiffness sum
     // over the ranks that hold faces and cells at them.
     if (dist_.part) {
@@ -41,7 +34,7 @@ void Model::bind_contact() {
     body.points = contact_points(mesh_, region, spec.nodes_where);
     add_contact_stiffness(body.points);
     const std::string error = start_contact(body, nullptr);
-    if (!error.empty()) throw InputError(spec.surface_where, error);
+    if (!error.empty()) throw InputError(spec.surface.where, error);
     contacts_.push_back(std::move(body));
   }
 }
@@ -225,7 +218,7 @@ void Model::bind_contact_of_part() {
     number_whole_points(body, n, part, exchange);
     // The first node inside the surface in the whole order is the lowest rank's first own.
     error = par::first_error(start_contact(body, &part.node_owner));
-    if (!error.empty()) throw InputError(spec.surface_where, error);
+    if (!error.empty()) throw InputError(spec.surface.where, error);
   }
 }
 

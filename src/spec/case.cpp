@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/invariant.hpp"
+
 namespace hencky {
 
 double PropertyTable::operator()(double T, bool* outside) const {
@@ -49,6 +51,28 @@ const char* to_string(BoundaryKind kind) {
       return "force";
   }
   return "?";
+}
+
+namespace {
+template <class T>
+const T& surface_value(const SurfaceParameters& p, const std::string& key) {
+  const auto it = p.values.find(key);
+  HENCKY_VERIFY(it != p.values.end() && std::holds_alternative<T>(it->second.value),
+                "surface type '" + p.type + "' declares no key '" + key + "' of that kind");
+  return std::get<T>(it->second.value);
+}
+}  // namespace
+
+double SurfaceParameters::number(const std::string& key) const {
+  return surface_value<double>(*this, key);
+}
+
+const Vec3& SurfaceParameters::vector(const std::string& key) const {
+  return surface_value<Vec3>(*this, key);
+}
+
+const std::filesystem::path& SurfaceParameters::path(const std::string& key) const {
+  return surface_value<std::filesystem::path>(*this, key);
 }
 
 }  // namespace hencky

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "core/error.hpp"
@@ -187,25 +188,40 @@ struct ProbeSpec {
 };
 
 /// A frictionless contact of the body's nodes with a rigid surface (report section 3).
+/// A value of a rigid surface's key, as its type declares the key (contact/surface_type.hpp):
+/// a number, a 3-vector (a unit one already normalized) or a file's absolute path.
+using SurfaceValue = std::variant<double, Vec3, std::filesystem::path>;
+
+/// A contact's rigid surface as the case gives it: the registered surface type its key names
+/// (plane, sphere, cylinder, mesh: surface_types(), contact/surface_type.cpp) and the values of
+/// that type's keys, read and checked as the type declares them; an optional key not given
+/// has its default (and no location).
+struct SurfaceParameters {
+  struct Entry {
+    SurfaceValue value;
+    SourceLocation where;  ///< the key's value in the case file
+  };
+  std::string type;                     ///< the type's name, its key under `surface`
+  std::map<std::string, Entry> values;  ///< by key
+  SourceLocation where;                 ///< the surface, contact[i].surface
+
+  /// The value of a key the type declares of that kind (InternalError otherwise: the type's
+  /// `make` asks for a key its declaration does not have).
+  double number(const std::string& key) const;
+  const Vec3& vector(const std::string& key) const;
+  const std::filesystem::path& path(const std::string& key) const;
+};
+
 struct ContactSpec {
-  enum class Shape { plane, sphere, cylinder, mesh };
   std::string name;   ///< unique; letters, digits, '_' and '-' (it names history.csv columns)
   std::string nodes;  ///< surface region (Gmsh physical surface) whose nodes may touch
-  Shape shape = Shape::plane;
-  Vec3 point = Vec3::Zero();    ///< plane: a point; cylinder: a point of the axis
-  Vec3 normal = Vec3::UnitZ();  ///< plane: unit normal from the rigid body to the deformable one
-  Vec3 axis = Vec3::UnitZ();    ///< cylinder: unit axis
-  Vec3 center = Vec3::Zero();   ///< sphere
-  double radius = 0;            ///< sphere, cylinder
-  std::filesystem::path file;   ///< mesh: absolute path of the STL file
-  double scale = 1.0;           ///< mesh: factor on the STL coordinates
+  SurfaceParameters surface;                        ///< the rigid surface where it starts
   std::array<std::optional<Expression>, 3> motion;  ///< translation over time; none: 0
   std::optional<double> stiffness;  ///< penalty κ per node (force/length); none: auto
   /// Allowed penetration (and gap of a pressed node), relative to the local element size.
   double penetration = 1e-3;
-  SourceLocation where;          ///< the entry contact[i]
-  SourceLocation nodes_where;    ///< location of the region name
-  SourceLocation surface_where;  ///< location of the surface
+  SourceLocation where;        ///< the entry contact[i]
+  SourceLocation nodes_where;  ///< location of the region name
 };
 
 /// The most steps a case may have (solver.steps, or the length of solver.times). Each step

@@ -560,12 +560,12 @@ TEST_F(CaseTest, ContactIsReadWithItsDefaults) {
 )");
   ASSERT_EQ(c.contact.size(), 2u);
   EXPECT_EQ(c.contact[0].name, "contact0");
-  EXPECT_EQ(c.contact[0].shape, ContactSpec::Shape::sphere);
+  EXPECT_EQ(c.contact[0].surface.type, "sphere");
   EXPECT_FALSE(c.contact[0].stiffness);  // auto
   EXPECT_EQ(c.contact[0].penetration, 1e-3);
   EXPECT_FALSE(c.contact[0].motion[2]);
-  EXPECT_EQ(c.contact[1].shape, ContactSpec::Shape::cylinder);
-  EXPECT_TRUE(c.contact[1].axis.isApprox(Vec3(0, 1, 0)));
+  EXPECT_EQ(c.contact[1].surface.type, "cylinder");
+  EXPECT_TRUE(c.contact[1].surface.vector("axis").isApprox(Vec3(0, 1, 0)));
   EXPECT_EQ(*c.contact[1].stiffness, 1e9);
   EXPECT_EQ(c.contact[1].penetration, 1e-4);
   EXPECT_DOUBLE_EQ((*c.contact[1].motion[2])(0, 0, 0, 2), -0.02);
