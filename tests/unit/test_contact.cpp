@@ -6,6 +6,8 @@
 
 #include "contact/contact.hpp"
 #include "contact/rigid_surface.hpp"
+#include "contact/surface_type.hpp"
+#include "core/invariant.hpp"
 #include "input/load_case.hpp"
 #include "output/results.hpp"
 #include "solve/contact_step.hpp"
@@ -66,6 +68,43 @@ TEST(RigidSurface, CylinderDistanceNearestAndEntry) {
   EXPECT_NEAR(hit->x.z(), 1, 1e-14);
   EXPECT_NEAR(hit->x.y(), 2 + 7.0 * 2 / 6, 1e-14);
   EXPECT_FALSE(s->intersection(Vec3(0, 0, 3), Vec3(0, 9, 3)));  // parallel to the axis
+}
+
+// ------------------------------------------------------------------------------------------
+// The registered surface types (contact/surface_type.hpp)
+
+TEST(SurfaceTypes, RegistryNamesKeysAndDescriptions) {
+  std::vector<std::string> names;
+  for (const SurfaceDeclaration& d : surface_types()) {
+    names.push_back(d.name);
+    EXPECT_TRUE(d.make) << d.name;
+    EXPECT_TRUE(d.describe) << d.name;
+    EXPECT_FALSE(d.noun.empty()) << d.name;
+    for (const SurfaceKey& k : d.keys) EXPECT_FALSE(k.description.empty()) << d.name << k.name;
+  }
+  // The case keys, in the order messages list them; summary.json's `shape` is the name.
+  EXPECT_EQ(names, (std::vector<std::string>{"plane", "sphere", "cylinder", "mesh"}));
+  EXPECT_EQ(surface_type("mesh").noun, "an STL body");
+  EXPECT_THROW(surface_type("torus"), InternalError);
+
+  // make and describe from the values read by key: a sphere.
+  SurfaceParameters p;
+  p.type = "sphere";
+  p.values["center"].value = Vec3(0, 0, 2);
+  p.values["radius"].value = 1.5;
+  const auto s = surface_type(p.type).make(p);
+  EXPECT_DOUBLE_EQ(s->signed_distance(Vec3(0, 0, -1)), 1.5);
+  const SurfaceDescription d = surface_type(p.type).describe(p);
+  ASSERT_EQ(d.size(), 3u);
+  EXPECT_EQ(d[0].first, "shape");
+  EXPECT_EQ(std::get<std::string>(d[0].second), "sphere");
+  EXPECT_EQ(d[1].first, "center");
+  EXPECT_EQ(std::get<Vec3>(d[1].second), Vec3(0, 0, 2));
+  EXPECT_EQ(d[2].first, "radius");
+  EXPECT_EQ(std::get<double>(d[2].second), 1.5);
+  // A key the type does not declare, or of another kind, is a programming error.
+  EXPECT_THROW(p.number("center"), InternalError);
+  EXPECT_THROW(p.vector("axis"), InternalError);
 }
 
 // ------------------------------------------------------------------------------------------
