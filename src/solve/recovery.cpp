@@ -107,9 +107,9 @@ void add_to_nodes(const Model& model, const State& state, int e, const PointTens
     for (int k = 0; k < 6; ++k) v[NodeRecord::plastic_strain + k] += eps_p[k];
     v[NodeRecord::eps_p_eq] += eqp;
     v[NodeRecord::eps_ep] += eps_ep;
-    for (int q = 0; q < tab.n_points; ++q) {
+    for (int q = 0; q < tab.n_points && n_law > 0; ++q) {
       const double w = tab.extrapolation(static_cast<int>(a), q);
-      const double* s = &state.internal[static_cast<std::size_t>(p0 + q) * n_law];
+      const double* s = state.internal.data() + static_cast<std::size_t>(p0 + q) * n_law;
       for (int j = 0; j < n_law; ++j) v[NodeRecord::internal + j] += w * s[j];
     }
   }
