@@ -33,7 +33,9 @@ std::array<const Voigt*, 4> strains_of(const ProbeValues& v) {
 /// scripts/render.py needs to draw it, as its type describes it (contact/surface_type.hpp).
 nlohmann::json surface_json(const SurfaceParameters& surface) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& [key, value] : surface_type(surface.type).describe(surface))
+  // (a pair, not a structured binding: clang 14, the sanitizer stage's, cannot capture one)
+  for (const auto& entry : surface_type(surface.type).describe(surface)) {
+    const std::string& key = entry.first;
     std::visit(
         [&j, &key](const auto& v) {
           if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Vec3>)
@@ -41,7 +43,8 @@ nlohmann::json surface_json(const SurfaceParameters& surface) {
           else
             j[key] = v;
         },
-        value);
+        entry.second);
+  }
   return j;
 }
 
