@@ -226,6 +226,8 @@ class Parser {
   void read_physical_names() {
     const std::size_t n = count("the number of physical names");
     for (std::size_t i = 0; i < n; ++i) {
+      skip_space();
+      const std::size_t line_at = pos_;
       const int dim = integer("a physical dimension");
       const int tag = integer("a physical tag");
       skip_space();
@@ -235,7 +237,13 @@ class Parser {
       const std::size_t eol = s_.find('\n', pos_ + 1);
       if (close == std::string_view::npos || (eol != std::string_view::npos && close > eol))
         throw error(at, "the physical name has no closing quote");
-      d_.physical_names[{dim, tag}] = std::string(s_.substr(pos_ + 1, close - pos_ - 1));
+      std::string name(s_.substr(pos_ + 1, close - pos_ - 1));
+      // A group of another dimension names nothing a mesh has; Gmsh's library, which converts
+      // the order of a read mesh, took one of dimension 4 and crashed (shared/crashes).
+      if (dim < 0 || dim > 3)
+        throw error(line_at, "physical name '" + name + "' has dimension " + std::to_string(dim) +
+                                 " (0 to 3)");
+      d_.physical_names[{dim, tag}] = std::move(name);
       pos_ = close + 1;
     }
   }

@@ -30,3 +30,12 @@ bad_mesh v2-body-under-4.0 v2-body-under-4.0.msh \
 printf 'mesh: {file: node-minus-one.msh, order: 2}\nmaterials: [{E: 2.1e11, nu: 0.3}]\n' >"$bm/convert.yaml"
 expect "bad mesh: a malformed file is refused before Gmsh converts its order" 1 \
   "node-minus-one\.msh:19: not a valid Gmsh mesh file" -- check "$bm/convert.yaml"
+# A $PhysicalNames line of dimension 4 (shared/crashes/msh-physical-dim4-*): read, it crashed the
+# Gmsh library once a case set mesh.order (1 or 2); now hencky's reader refuses it first.
+for order in 1 2; do
+  printf 'mesh: {file: physical-dim4.msh, order: %s}\nmaterials: [{E: 2.1e11, nu: 0.3}]\n' "$order" \
+    >"$bm/dim4-order$order.yaml"
+  expect "bad mesh: a physical name of dimension 4, mesh.order $order, is an input error" 1 \
+    "physical-dim4\.msh:6: not a valid Gmsh mesh file: physical name 'clamp' has dimension 4 \(0 to 3\)" \
+    -- check "$bm/dim4-order$order.yaml"
+done
