@@ -131,17 +131,15 @@ Evaluation IterateEvaluator::evaluate(const State& c, State& trial, bool update_
         "follow the deformation, a mesh this distorted will not",
         e.tag, c.time, trial.time));
   negative_secant_cell_ = ev.points.negative_secant_cell;
-  if (update_contact && contact_.active()) {
-    ScopedTimer timer(timings_.contact);
-    contact_.update(c, trial);
-  }
-  ev.r2 = residual_vector(trial, &ev.r_loads2);
+  if (update_contact)
+    this->update_contact(c, trial, ev);
+  else
+    ev.r2 = residual_vector(trial, &ev.r_loads2);
   return ev;
 }
 
 void IterateEvaluator::update_contact(const State& c, State& trial, Evaluation& ev) {
-  if (!contact_.active()) return;
-  {
+  if (contact_.active()) {
     ScopedTimer timer(timings_.contact);
     contact_.update(c, trial);
   }

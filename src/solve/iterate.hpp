@@ -33,8 +33,8 @@ class IterateEvaluator {
   /// The iterate trial.u: points and internal forces, then (with `update_contact`, after a
   /// solve) the contact's steps 3-4, then the residual. `elastic`: the elastic start.
   Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
-  /// The contact states updated at the iterate, then its residual again (what evaluate does
-  /// after the points with `update_contact`).
+  /// The contact states updated at the evaluated iterate (with contact), then its residual
+  /// (what evaluate does after the points with `update_contact`).
   void update_contact(const State& c, State& trial, Evaluation& ev);
   /// rhs() = target + F_contact − F_int on the free dofs for the evaluated iterate (the
   /// supports' forces computed here, into trial.f_contact); returns its squared norm, and in

@@ -54,7 +54,7 @@ void LineSearch::search(const State& c, State& trial, const std::vector<double>&
   if (s == 1) {
     // δ whole: this is the next iterate's evaluation, once the contact has been updated at it
     // (what evaluate(c, trial, true) does after the points; its residual then changes).
-    iterate.update_contact(c, trial, ev);
+    if (iterate.contact().active()) iterate.update_contact(c, trial, ev);
     searched_ = std::move(ev);
     return;
   }

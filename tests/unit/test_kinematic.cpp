@@ -33,16 +33,11 @@ TEST(KinematicHardening, TangentMatchesFiniteDifferences) {
                 h.plastic(eps_p0 + r.mapping.d_lambda, 20).value, 1e-9 * curve.yield_now);
     EXPECT_NEAR(r.alpha[0] + r.alpha[1] + r.alpha[2], 0.0, 1e-9 * r.alpha.norm());
     const Mat6 c = r.mapping.tangent.matrix(steel);
-    Mat6 fd;
-    for (int j = 0; j < 6; ++j) {
-      const double step = 1e-8;
-      Voigt xp = x, xm = x;
-      xp[j] += step;
-      xm[j] -= step;
-      fd.col(j) = (kinematic_return(steel, curve, h_kin, s0, alpha0, xp).mapping.sigma -
-                   kinematic_return(steel, curve, h_kin, s0, alpha0, xm).mapping.sigma) /
-                  (2 * step);
-    }
+    const Mat6 fd = central_differences(
+        [&](const Voigt& y) {
+          return kinematic_return(steel, curve, h_kin, s0, alpha0, y).mapping.sigma;
+        },
+        x);
     EXPECT_LE((c - fd).norm(), 1e-5 * c.norm());
   }
 }

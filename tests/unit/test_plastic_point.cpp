@@ -96,15 +96,8 @@ TEST(PlasticPoint, RadialReturnTangentMatchesFiniteDifferences) {
         EXPECT_NEAR(von_mises(r.sigma), h.plastic(eps_p0 + r.d_lambda, 20).value,
                     1e-10 * von_mises(r.sigma));
         const Mat6 c = r.tangent.matrix(steel);
-        Mat6 fd;
-        for (int j = 0; j < 6; ++j) {
-          const double step = 1e-8;
-          Voigt xp = x, xm = x;
-          xp[j] += step;
-          xm[j] -= step;
-          fd.col(j) = (radial_return(steel, curve, s0, xp).sigma -
-                       radial_return(steel, curve, s0, xm).sigma) / (2 * step);
-        }
+        const Mat6 fd = central_differences(
+            [&](const Voigt& y) { return radial_return(steel, curve, s0, y).sigma; }, x);
         EXPECT_LE((c - fd).norm(), 1e-5 * c.norm()) << "eps_p0 " << eps_p0;
       }
     }
