@@ -110,6 +110,15 @@ Voigt voigt_of(const Mat3& t, double shear) {
 Mat3 stress_tensor(const Voigt& s) {
   return tensor_of(s, 1);
 }
+Voigt stress_voigt(const Mat3& t) {
+  return voigt_of(t, 1);
+}
+Mat3 strain_tensor(const Voigt& e) {
+  return tensor_of(e, 2);
+}
+Voigt strain_voigt(const Mat3& t) {
+  return voigt_of(t, 2);
+}
 
 Voigt rotate_strain(const Mat3& R, const Voigt& e) {
   return voigt_of(R * tensor_of(e, 2) * R.transpose(), 2);
@@ -145,6 +154,12 @@ double CellDeformation::compute(const CellKinematics& kin, const double* du) {
   for (int q = 0; q < points; ++q) {
     const double shift = (mean_trace - (E[q][0] + E[q][1] + E[q][2])) / 3;
     for (int i = 0; i < 3; ++i) E[q][i] += shift;
+    // C̄ = I + 2Ē must stay positive definite (Hencky's strain is ½ ln C̄): a shift of the trace
+    // that compresses a direction of the point to nothing is as inverted as det F ≤ 0 (the
+    // first iterate of a step whose prescribed displacements crush a boundary layer).
+    const Mat3 cb = Mat3::Identity() + 2 * tensor_of(E[q], 2);
+    const double m2 = cb(0, 0) * cb(1, 1) - cb(0, 1) * cb(1, 0);
+    if (!(cb(0, 0) > 0 && m2 > 0 && cb.determinant() > 0)) det_min = std::min(det_min, 0.0);
     const double* g = kin.grad(q);
     double* cq = &c[static_cast<std::size_t>(q) * 3 * n];
     for (int a = 0; a < n; ++a) {

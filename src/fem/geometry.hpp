@@ -103,7 +103,7 @@ struct CellDeformation {
   std::array<double, 3 * max_cell_nodes * max_cell_points> c{};  ///< B-bar corrections c_a
 
   /// Everything for the nodal displacements du of the step; returns the smallest det F (≤ 0:
-  /// the cell turned inside out).
+  /// the cell turned inside out, or a B-bar point whose C̄ = I + 2Ē is not positive definite).
   double compute(const CellKinematics& kin, const double* du);
   const double* corr(int q) const { return &c[static_cast<std::size_t>(q) * 3 * n]; }
   /// f_a += w·F(S∇N_a + tr(S)/3·c_a): the internal force of S at point q.
@@ -115,8 +115,12 @@ struct CellDeformation {
   Mat3 rotation(int q) const;
 };
 
-/// The symmetric tensor of a stress-like Voigt vector s (tensor shears).
+/// The symmetric tensor of a stress-like Voigt vector s (tensor shears), and back.
 Mat3 stress_tensor(const Voigt& s);
+Voigt stress_voigt(const Mat3& t);
+/// The symmetric tensor of a strain-like Voigt vector e (engineering shears), and back.
+Mat3 strain_tensor(const Voigt& e);
+Voigt strain_voigt(const Mat3& t);
 /// R e Rᵀ for a strain-like Voigt vector e (engineering shears).
 Voigt rotate_strain(const Mat3& R, const Voigt& e);
 /// R s Rᵀ for a stress-like Voigt vector s (tensor shears).

@@ -1,5 +1,6 @@
 #include "solve/element_matrix.hpp"
 
+#include "fem/hencky_strain.hpp"
 #include "fem/reference_element.hpp"
 
 namespace hencky {
@@ -70,33 +71,76 @@ void add_material_part(int n, const double* dNdx, const double* corr, const Tang
   }
 }
 
+/// F·(B̄ᵀCB̄)·Fᵀ of one point for a general C (6 × 6, engineering shears on the strain side)
+/// into the upper blocks of ke: with BL_a = B̄_a Fᵀ (6 × 3), K_ab += w·BL_aᵀ C BL_b.
+void add_material_matrix(int n, const double* dNdx, const double* corr, const Mat6& c, double w,
+                         const Mat3& F, double* ke) {
+  const int nd = 3 * n;
+  using Mat63 = Eigen::Matrix<double, 6, 3>;
+  Mat63 bl[max_cell_nodes], cbl[max_cell_nodes];
+  for (int a = 0; a < n; ++a) {
+    const double gx = dNdx[3 * a], gy = dNdx[3 * a + 1], gz = dNdx[3 * a + 2];
+    Mat63 b = Mat63::Zero();
+    b(0, 0) = gx, b(1, 1) = gy, b(2, 2) = gz;
+    b(3, 1) = gz, b(3, 2) = gy;
+    b(4, 0) = gz, b(4, 2) = gx;
+    b(5, 0) = gy, b(5, 1) = gx;
+    if (corr)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) b(i, j) += corr[3 * a + j] / 3;
+    bl[a] = b * F.transpose();
+    cbl[a] = w * c * bl[a];
+  }
+  for (int a = 0; a < n; ++a)
+    for (int bb = a; bb < n; ++bb) {
+      const Mat3 k = bl[a].transpose() * cbl[bb];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) ke[(3 * a + i) * nd + 3 * bb + j] += k(i, j);
+    }
+}
+
 /// The tangent of the updated Lagrangian step (CellDeformation) at the iterate `trial` from
-/// the step's start `start`: per point F·(B̄ᵀCB̄ at the corrected gradients)·Fᵀ, C the
-/// scheme's dS/dE, and the initial-stress part ∫(∇N_a·S∇N_b) I of the iterate's S, with for
+/// the step's start `start`: per point F·(B̄ᵀCB̄ at the corrected gradients)·Fᵀ, C = dS/dE of
+/// Hencky's strain for the scheme's matrix dτ/dΔε (HenckyStep::tangent), and the
+/// initial-stress part ∫(∇N_a·S∇N_b) I of the iterate's S, with for
 /// B-bar cells the second variation of the mean trace. This is the derivative of
 /// CellDeformation::add_force when C is: newton's matrix is consistent, and symmetric.
-void updated_matrix(const Model& m, const State& start, const State& trial,
+void updated_matrix(const Model& m, const StepStart& step_start, const State& trial,
                     const std::vector<Tangent>& tangents, const CellKinematics& kin,
                     std::span<const int> nodes, int e, CellBuffers& b) {
   const int n = kin.n, nd = 3 * n;
   const bool plastic = m.material_of(e).plastic();
   const Tangent elastic;
+  const State& start = step_start.state;
   double du[3 * max_cell_nodes];
   for (int a = 0; a < n; ++a)
     for (int d = 0; d < 3; ++d)
-      du[3 * a + d] = trial.u[3 * nodes[a] + d] - start.u[3 * nodes[a] + d];
+      du[3 * a + d] =
+          step_start.at_start ? 0.0 : trial.u[3 * nodes[a] + d] - start.u[3 * nodes[a] + d];
   CellDeformation& def = thread_deformation();
   def.compute(kin, du);
+  const State& stressed = step_start.at_start ? start : trial;
   double gg_mean[max_cell_nodes][max_cell_nodes] = {};  // the mean of g_a·g_b (B-bar)
   double p_mean = 0;
   for (int q = 0; q < kin.points; ++q) {
     const double w = kin.dv[q];
     const double* g = kin.grad(q);
     const int p = m.point_offset(e) + q;
-    add_material_part(n, g, kin.bbar ? def.corr(q) : nullptr, plastic ? tangents[p] : elastic,
-                      trial.constants[p], w, &def.F[q], b.ke);
+    const double j_t = step_start.volume_ratio[p];
+    const Voigt S = def.second_piola(q, stressed.stress[p]);
+    if (step_start.matrix != UpdatedMatrix::exact) {
+      add_material_part(n, g, kin.bbar ? def.corr(q) : nullptr, plastic ? tangents[p] : elastic,
+                        trial.constants[p], w, &def.F[q], b.ke);
+    } else {
+      HenckyStep hencky;
+      hencky.start(start.constants[p].compliance() * (j_t * start.stress[p]));
+      hencky.increment(def.E[q]);
+      const ElasticConstants& k = trial.constants[p];
+      const Mat6 c = hencky.tangent(S, plastic ? tangents[p].matrix(k) : k.stiffness(), j_t);
+      add_material_matrix(n, g, kin.bbar ? def.corr(q) : nullptr, c, w, def.F[q], b.ke);
+    }
+    if (step_start.matrix == UpdatedMatrix::law_without_stress) continue;
     // The initial-stress part (∇N_a·S∇N_b) I of the iterate's S.
-    const Voigt S = def.second_piola(q, trial.stress[p]);
     const Mat3 s = stress_tensor(S) * w;
     const double pw = w * (S[0] + S[1] + S[2]) / 3;
     p_mean += pw;
@@ -125,7 +169,8 @@ void updated_matrix(const Model& m, const State& start, const State& trial,
 }  // namespace
 
 void element_matrix(const Model& m, const State& trial, const std::vector<Tangent>& tangents,
-                    const std::vector<Vec3>& config, const State* start, int e, CellBuffers& b) {
+                    const std::vector<Vec3>& config, const StepStart* start, int e,
+                    CellBuffers& b) {
   const auto& mesh = m.mesh();
   const auto nodes = mesh.cells.nodes(e);
   const int n = static_cast<int>(nodes.size());

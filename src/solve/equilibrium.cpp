@@ -84,11 +84,16 @@ State Equilibrium::initial_state() const {
 bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out) {
   out = StepOutcome{};
   iterate_.begin(c, t1, trial);
+  // Under `updated` the prescribed displacements of the step first spread into the body; the
+  // forces of that motion on the body held as it was are a force scale of the step (what its
+  // first iterate's forces were without the spreading; a rigid motion has no other).
+  const double spread =
+      m_.spec().solver.updated_geometry ? matrix_.spread_prescribed(c, trial) : 0.0;
   Evaluation ev = iterate_.evaluate(c, trial, false);
-  const double f_step = iterate_.step_force(c, trial, ev);
+  const double f_step = std::max(iterate_.step_force(c, trial, ev), spread);
   const double f_norm = std::max(f_step, IterateEvaluator::history_force(c));
   bool extrapolated = false;
-  if (predictor_.enabled())  // before the loop
+  if (predictor_.enabled() && spread == 0)  // before the loop
     ev = predictor_.predict(c, trial, ev, f_norm, extrapolated, iterate_, log_);
   // The elastic start: at u(t) the step's prescribed displacements and
   // thermal strains act on a body that has not deformed with them yet, all in the cells next to
@@ -115,6 +120,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   held_.start_step();
   search_.start_step();
   first_iteration_ = 0;
+  out.correction = out.previous_correction = 0;
   for (out.iterations = 0;; ++out.iterations) {
     if (par::any(interrupt_requested()))  // every rank stops at the same iteration
       throw Interrupted(fmt::format("interrupted in the step to t = {:g}", t1));
@@ -139,7 +145,13 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       require_strain_form(ev);  // the reason, where the iterate left the strain form's range
       return false;
     }
+    const bool updated = m_.spec().solver.updated_geometry;
+    const std::vector<double> u_before = updated ? trial.u : std::vector<double>();
     advance(c, trial, ev, out.iterations, out.residual);
+    if (updated) {
+      out.previous_correction = out.correction;
+      out.correction = iterate_.correction_ratio(c, trial, u_before);
+    }
     if (held_.update(out.iterations, ev.points, holds_broken, done, iterate_.points(), log_))
       mixing_.new_map();
   }
@@ -168,7 +180,7 @@ double Equilibrium::measure(const State& trial, const Evaluation& ev, double f_n
   report(out);
   if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
   const double tol = m_.spec().solver.tolerance;
-  double worst = out.residual / tol;
+  double worst = std::max(out.residual, out.correction) / tol;
   if (policy_.plastic) worst = std::max({worst, out.delta_sigma / tol, out.delta_eps / tol});
   limit_.record(worst);
   return scale;
@@ -266,13 +278,19 @@ void Equilibrium::require_strain_form(const Evaluation& ev) const {
 
 /// The iteration's log line (and the contact's).
 void Equilibrium::report(const StepOutcome& out) const {
+  // Under `updated` the last correction too (the one that made this iterate).
+  const std::string correction = m_.spec().solver.updated_geometry && out.iterations > 0
+                                     ? fmt::format("  correction {:.3e}", out.correction)
+                                     : "";
   if (policy_.plastic) {
     log_.detail(
         "  iteration {}: relative residual {:.3e}  Δσ {:.3e}  Δε {:.3e}  plastic "
-        "points {}",
-        out.iterations, out.residual, out.delta_sigma, out.delta_eps, out.plastic_points);
+        "points {}{}",
+        out.iterations, out.residual, out.delta_sigma, out.delta_eps, out.plastic_points,
+        correction);
   } else {
-    log_.detail("  iteration {}: relative residual {:.3e}", out.iterations, out.residual);
+    log_.detail("  iteration {}: relative residual {:.3e}{}", out.iterations, out.residual,
+                correction);
   }
   if (iterate_.contact().active()) {
     const ContactProgress& cp = iterate_.contact().progress();
@@ -282,12 +300,24 @@ void Equilibrium::report(const StepOutcome& out) const {
   }
 }
 
-/// Every measure within the tolerance, after at least one solve.
+/// Every measure within the tolerance, after at least one solve. Under `geometry: updated`
+/// the last correction of the displacements too, relative to the step's increment: the
+/// residual is relative to the step's force scale, which a prescribed motion sets (the forces
+/// of that motion on the body held as it was, StepMatrix::spread_prescribed), and where the
+/// answer is a rigid motion that scale says nothing of it. A plastically stretched block turned
+/// by 90° stopped at residuals of 1e-7 that left points flowing in a rigid rotation (its
+/// equivalent plastic strain grew by 1.4e-6 of itself); with the correction bounded it keeps it
+/// to 1e-14. A correction no smaller than half the one before says no more than the residual:
+/// the iteration has reached its round-off (a plastic body at rest after unloading, moved
+/// 4e-15 m by its step, with corrections of 1e-15 m), or converges too slowly for the last
+/// correction to bound its error.
 bool Equilibrium::converged(const StepOutcome& out) const {
   const double tol = m_.spec().solver.tolerance;
   const bool measures_ok = !policy_.plastic || (out.delta_sigma <= tol && out.delta_eps <= tol);
   const bool contact_ok = !iterate_.contact().active() || iterate_.contact().progress().converged();
-  return out.iterations >= 1 && out.residual <= tol && measures_ok && contact_ok;
+  const bool correction_ok = out.correction <= tol || (out.iterations >= 2 &&
+                                                       out.correction > 0.5 * out.previous_correction);
+  return out.iterations >= 1 && out.residual <= tol && correction_ok && measures_ok && contact_ok;
 }
 
 /// The checks a converged iterate must pass before it is the answer of the step.
@@ -325,7 +355,10 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   // Asked on every rank: on a distributed mesh the ranks agree on it (collective).
   const bool stale = iterate_.contact().matrix_stale(trial);
   const bool refactor = new_elements || stale;
-  if (refactor) matrix_.assemble_and_factorize(c, trial, new_elements);
+  // Under `updated` the first matrix of a step, and one kept through it, is that of the
+  // step's start (StepStart::at_start, docs/schemes.md "The matrix, and newton under updated").
+  const bool at_start = iteration == 0 || scheme_->matrix_policy() != MatrixPolicy::per_iteration;
+  if (refactor) matrix_.assemble_and_factorize(c, trial, new_elements, iteration, at_start);
   matrix_.solve(residual);
   std::vector<double>& delta = matrix_.correction();
   mixing_.mix_correction(trial, delta, iteration, residual, refactor);
@@ -359,7 +392,7 @@ void Equilibrium::resume(const State& c, EquilibriumMemory mem) {
     iterate_.points().set_tangents(std::move(mem.assembled_tangents));
     State at = c;
     if (iterate_.contact().active()) at.contact = std::move(mem.assembled_contact);
-    matrix_.assemble_and_factorize(c, at, true);
+    matrix_.assemble_and_factorize(c, at, true, 0, true);
   }
   iterate_.points().set_tangents(std::move(mem.tangents));
 }

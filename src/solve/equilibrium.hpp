@@ -28,6 +28,9 @@ struct StepOutcome {
   double delta_sigma = 0;  ///< the scheme's Δ^σ (0 without plasticity)
   double delta_eps = 0;
   int plastic_points = 0;
+  /// geometry: updated: the last correction of the displacements relative to the step's
+  /// increment, ‖δu‖/‖Δu‖ (0 otherwise, and before the first solve), and the one before it.
+  double correction = 0, previous_correction = 0;
 };
 
 class Equilibrium {

@@ -29,6 +29,17 @@ double IterateEvaluator::norm(const std::vector<double>& v) const {
   return std::sqrt(layout_.dot(v, v, own_dofs_));
 }
 
+double IterateEvaluator::correction_ratio(const State& c, const State& trial,
+                                          const std::vector<double>& u_before) const {
+  std::vector<double> d(trial.u.size()), du(trial.u.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    d[i] = trial.u[i] - u_before[i];
+    du[i] = trial.u[i] - c.u[i];
+  }
+  const double step = norm(du), last = norm(d);
+  return step > 0 ? last / step : 0.0;
+}
+
 double IterateEvaluator::step_force(const State& c, const State& trial,
                                     const Evaluation& ev) const {
   return std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
@@ -46,9 +57,11 @@ void IterateEvaluator::begin(const State& c, double t1, State& trial) {
   }
   points_.temperatures(trial, log_);
   m_.prescribed_displacement(t1, trial.u);  // prescribed entries of u at t1, free ones at t
-  if (updated_)
+  if (updated_) {
     for (int n = 0; n < m_.mesh().n_nodes(); ++n)
       x_[n] = m_.mesh().x[n] + Vec3(c.u[3 * n], c.u[3 * n + 1], c.u[3 * n + 2]);
+    points_.set_configuration(x_);
+  }
   m_.external_forces(t1, trial.f_ext, updated_ ? &x_ : nullptr);
   if (m_.has_plasticity()) points_.begin_step(c, trial);
   if (contact_.active()) contact_.begin(c, trial);
@@ -127,8 +140,9 @@ Evaluation IterateEvaluator::evaluate(const State& c, State& trial, bool update_
   if (const Model::CellFacts e = m_.cell_facts(ev.points.inverted_cell); e.tag >= 0)
     throw SolveError(fmt::format(
         "element {} is turned inside out at t = {:g} or halfway through the step to t = {:g} "
-        "(geometry: updated): the step moved its nodes past each other; smaller steps may "
-        "follow the deformation, a mesh this distorted will not",
+        "(geometry: updated): the step moved its nodes past each other (or, in an 8-node "
+        "hexahedron or a wedge, compressed a direction of a point to nothing); smaller steps "
+        "may follow the deformation, a mesh this distorted will not",
         e.tag, c.time, trial.time));
   negative_secant_cell_ = ev.points.negative_secant_cell;
   if (update_contact)

@@ -43,6 +43,10 @@ class IterateEvaluator {
   /// ‖F_ext + F_contact − F_int‖ of a state on the free dofs, over the whole model.
   double equilibrium_defect(const State& s) const;
 
+  /// ‖u − u_before‖/‖u − u(t)‖ of the iterate u = trial.u over the whole model: its last
+  /// correction against the step's increment (0 for no increment).
+  double correction_ratio(const State& c, const State& trial,
+                          const std::vector<double>& u_before) const;
   /// ‖v‖ of a complete nodal vector (3 per node) over the whole model.
   double norm(const std::vector<double>& v) const;
   /// The force scale of the step, fixed at its start: the loads, the internal forces before

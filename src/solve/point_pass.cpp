@@ -6,6 +6,7 @@
 #include <climits>
 #include <cmath>
 
+#include "fem/hencky_strain.hpp"
 #include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/element_matrix.hpp"
@@ -14,6 +15,10 @@ namespace hencky {
 
 PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme& scheme)
     : m_(m), only_(only), plastic_(m.has_plasticity()), scheme_(scheme) {
+  if (m.spec().solver.updated_geometry) {
+    reference_volume_ = point_volumes(m_, m.mesh().x);
+    start_volume_ratio_.assign(m.n_points(), 1.0);
+  }
   if (!plastic_) return;
   const int n = m.n_points();
   point_step_.resize(n);
@@ -21,17 +26,34 @@ PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme
   tangent_.assign(n, Tangent{});
   defect_sigma_.assign(n, 0.0);
   defect_eps_.assign(n, 0.0);
-  point_volume_.assign(n, 0.0);
+  point_volume_ = reference_volume_.empty() ? point_volumes(m_, m.mesh().x) : reference_volume_;
+}
+
+/// The volume weight dv = det J·w of every point of this rank's cells on the configuration x.
+std::vector<double> PointPass::point_volumes(const Model& m, const std::vector<Vec3>& config) {
+  std::vector<double> v(m.n_points(), 0.0);
   const auto& mesh = m.mesh();
   CellKinematics kin;
   Vec3 x[max_cell_nodes];
   for (int e = 0; e < mesh.cells.size(); ++e) {
     if (!m.holds_points(e)) continue;
     const auto nodes = mesh.cells.nodes(e);
-    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = mesh.x[nodes[a]];
+    for (std::size_t a = 0; a < nodes.size(); ++a) x[a] = config[nodes[a]];
     kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
-    for (int q = 0; q < kin.points; ++q) point_volume_[m.point_offset(e) + q] = kin.dv[q];
+    for (int q = 0; q < kin.points; ++q) v[m.point_offset(e) + q] = kin.dv[q];
   }
+  return v;
+}
+
+void PointPass::set_configuration(const std::vector<Vec3>& x) {
+  if (reference_volume_.empty()) return;
+  start_volume_ratio_ = point_volumes(m_, x);
+  for (std::size_t p = 0; p < start_volume_ratio_.size(); ++p)
+    if (reference_volume_[p] > 0) start_volume_ratio_[p] /= reference_volume_[p];
+}
+
+Voigt PointPass::start_stress(const State& c, int p) const {
+  return start_volume_ratio_.empty() ? c.stress[p] : Voigt(start_volume_ratio_[p] * c.stress[p]);
 }
 
 void PointPass::temperatures(State& s, Log& log) const {
@@ -94,6 +116,19 @@ void PointPass::keep_plastic_state(const State& c, State& trial, int p) {
   point_iter_[p] = scheme_.start_iteration(point_step_[p]);
 }
 
+/// The plastic state of point p at the iterate from the scheme's update u (its stress, τ under
+/// `updated`, and its plastic increment).
+void PointPass::take_plastic_update(const State& c, State& trial, int p, const PointUpdate& u) {
+  trial.stress[p] = u.sigma;
+  trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
+  trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
+  trial.eps_ep[p] = u.eps_ep;
+  trial.eps_ep_max[p] = std::max(c.eps_ep_max[p], u.eps_ep);
+  trial.flowing[p] = u.plastic;
+  defect_sigma_[p] = u.defect_sigma;
+  defect_eps_[p] = u.defect_eps;
+}
+
 /// Under `geometry: updated` the law's tensors turn with the material, as the plastic strain
 /// does: R α Rᵀ for a stress-like tensor (the law works in the frame of the step's
 /// configuration; its state at t+Δt is kept in the frame of the configuration there).
@@ -120,18 +155,20 @@ void PointPass::begin_step(const State& c, const State& trial) {
     for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
       point_step_[p] = scheme_.begin_point_step(
           trial.constants[p], *mat.law, *mat.hardening, trial.temperature[p], mat.elastic_unloading,
-          c.stress[p], c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
+          start_stress(c, p), c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
   }
 }
 
 /// Point update and internal forces. Elastic materials: σ = σ(t) + D(t+Δt)(Δε − Δε^th),
 /// (1.9), (1.12). Plastic ones: the scheme's point law (solve/schemes.hpp).
 /// Under `geometry: updated` x is the configuration at t and the step is the updated
-/// Lagrangian one of CellDeformation (src/fem/geometry.hpp): the point law takes the Green
-/// strain of the step relative to x for Δε and σ(t) for its start, and returns S, the second
-/// Piola–Kirchhoff stress relative to x; the stress kept is the Cauchy stress J⁻¹FSFᵀ and the
-/// plastic strain turns with the rotation of F. The step's flow direction Z of σ(t) stays
-/// valid: the law works in the frame of x.
+/// Lagrangian one of CellDeformation (src/fem/geometry.hpp) on Hencky's strain (HenckyStep,
+/// src/fem/hencky_strain.hpp): the point law takes the increment of the elastic logarithmic
+/// strain of the exponential map for Δε and the Kirchhoff stress τ(t) = J(t)σ(t) for its
+/// start, in the frame of x, and returns τ; the step's forces are those of
+/// S = U⁻¹τU⁻¹/J(t), the stress kept is the Cauchy stress J⁻¹FSFᵀ = RτRᵀ/J, and the plastic
+/// strain and the law's tensors turn with R. The step's flow direction Z of τ(t) stays valid:
+/// the law works in the frame of x.
 PointPassResult PointPass::update(const State& c, State& trial, const std::vector<Vec3>& config,
                                   bool elastic) {
   const auto& mesh = m_.mesh();
@@ -171,13 +208,17 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
           inverted_cell.compare_exchange_strong(none, e);
           return;
         }
+        HenckyStep hencky;
         for (int q = 0; q < kin.points; ++q) {
           const int p = m_.point_offset(e) + q;
-          const Voigt d_eps = updated ? def.E[q] : kin.strain(q, du);
+          // Under `updated` the law works on Hencky's strain and the Kirchhoff stress τ = Jσ.
+          const Voigt sigma0 = start_stress(c, p);
+          if (updated) hencky.start(c.constants[p].compliance() * sigma0);
+          const Voigt d_eps = updated ? hencky.increment(def.E[q]) : kin.strain(q, du);
           if (!plastic || elastic) {
             trial.stress[p] =
                 elastic_stress_update(c.constants[p], c.temperature[p], trial.constants[p],
-                                      trial.temperature[p], c.stress[p], d_eps);
+                                      trial.temperature[p], sigma0, d_eps);
             if (plastic) {
               keep_plastic_state(c, trial, p);
               set_tangent(p, Tangent{});  // the elastic matrix
@@ -185,9 +226,9 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
           } else {
             const Voigt d_mech = d_eps - thermal_strain_increment(
                                              c.constants[p], c.temperature[p], trial.constants[p],
-                                             trial.temperature[p], c.stress[p]);
+                                             trial.temperature[p], sigma0);
             PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
-                                             c.stress[p], d_mech, law_state(c, trial, p));
+                                             sigma0, d_mech, law_state(c, trial, p));
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);
@@ -197,19 +238,13 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
               int none = -1;
               negative_secant_cell.compare_exchange_strong(none, e);
             }
-            trial.stress[p] = u.sigma;
-            trial.plastic_strain[p] = c.plastic_strain[p] + u.d_lambda * u.z;
-            trial.eps_p_eq[p] = std::max(0.0, c.eps_p_eq[p] + u.d_lambda);
-            trial.eps_ep[p] = u.eps_ep;
-            trial.eps_ep_max[p] = std::max(c.eps_ep_max[p], u.eps_ep);
-            trial.flowing[p] = u.plastic;
-            defect_sigma_[p] = u.defect_sigma;
-            defect_eps_[p] = u.defect_eps;
+            take_plastic_update(c, trial, p, u);
             set_tangent(p, u.tangent);
           }
           if (updated) {
-            def.add_force(kin, q, trial.stress[p], kin.dv[q], b.fe);
-            trial.stress[p] = def.cauchy(q, trial.stress[p]);
+            const Voigt S = hencky.second_piola(trial.stress[p], start_volume_ratio_[p]);
+            def.add_force(kin, q, S, kin.dv[q], b.fe);
+            trial.stress[p] = def.cauchy(q, S);
             if (plastic) {
               const Mat3 r = def.rotation(q);
               trial.plastic_strain[p] = rotate_strain(r, trial.plastic_strain[p]);

@@ -36,6 +36,18 @@ class PointPass {
   /// Per plastic point, what stays fixed during the step to `trial` (flow direction, start
   /// slope, the curve at t+Δt) and the scheme's initial parameters.
   void begin_step(const State& c, const State& trial);
+  /// Under `geometry: updated`, the configuration x of the step's start: the points' volume
+  /// ratios J(t) = dv/dV there (start_volume_ratio).
+  void set_configuration(const std::vector<Vec3>& x);
+  /// This rank's cells (nullptr: every cell).
+  const std::vector<char>* cells() const { return only_; }
+  /// J(t) per point under `updated` (empty otherwise).
+  const std::vector<double>& start_volume_ratio() const { return start_volume_ratio_; }
+  /// The stress the point law starts the step from: σ(t), or the Kirchhoff stress J(t)σ(t)
+  /// under `updated`.
+  Voigt start_stress(const State& c, int p) const;
+  /// The volume weight dv = det J·w of every point of this rank's cells on the configuration x.
+  static std::vector<double> point_volumes(const Model& m, const std::vector<Vec3>& x);
   /// Stresses, plastic state and internal forces of the iterate trial.u (elastic points:
   /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
   /// the scheme's matrices for the next solve, and the measures. Collective.
@@ -92,6 +104,7 @@ class PointPass {
   bool mine(int e) const { return !only_ || (*only_)[e]; }
   LawState law_state(const State& c, State& trial, int p) const;
   void keep_plastic_state(const State& c, State& trial, int p);
+  void take_plastic_update(const State& c, State& trial, int p, const PointUpdate& u);
   void rotate_law_state(const PointLaw& law, const Mat3& r, State& trial, int p) const;
   /// f(p) for every point of this rank's cells of plastic materials, in the order of the cells.
   template <class F>
@@ -106,6 +119,9 @@ class PointPass {
   std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update
   std::vector<Tangent> saved_tangent_;
   std::vector<double> defect_sigma_, defect_eps_, point_volume_;
+  /// Under `updated`: the points' volume weights on the mesh, and J(t) = dv/dV at the step's
+  /// start.
+  std::vector<double> reference_volume_, start_volume_ratio_;
 };
 
 }  // namespace hencky

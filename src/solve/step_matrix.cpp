@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/timer.hpp"
+#include "parallel/mpi.hpp"
 #include "solve/element_matrix.hpp"
 
 namespace hencky {
@@ -35,24 +36,106 @@ bool StepMatrix::needs_elements(int iteration, int first_iteration, bool tangent
            (policy == MatrixPolicy::per_step && iteration <= first_iteration + 1)));
 }
 
-void StepMatrix::assemble_and_factorize(const State& c, const State& trial, bool new_elements) {
+void StepMatrix::assemble_and_factorize(const State& c, const State& trial, bool new_elements,
+                                        int iteration, bool at_start) {
+  at_start_ = at_start;
+  assemble(c, trial, new_elements, UpdatedMatrix::exact);
+  if (!updated_) return factorize();
+  // Under `updated` the exact tangent can stop being positive definite at an iterate far from
+  // the answer: the first iterates of a slender strip under a follower pressure strain its tip
+  // by tens of per cent, where the initial-stress part of Hencky's S in compression (E ln λ/λ²
+  // in uniaxial compression, against the Green strain's E(λ² − 1)/2) makes the matrix
+  // indefinite (examples/cantilever-hook on 25 elements: every other step cut back, the
+  // scheme's matrix on the step's Green strain with the initial-stress part indefinite too).
+  // Such an iterate goes on with the scheme's matrix on the Green strain and no initial-stress
+  // part, positive definite wherever the scheme's matrix is and the body is held: the matrix
+  // changes the path of the iteration, not its answer. At the step's start the state is a
+  // converged one (or newton's extrapolation of it): a tangent that is not positive definite
+  // there is the structure's own, a buckling or limit point.
+  try {
+    factorize();
+  } catch (const LinearSystemError& e) {
+    if (iteration == 0)
+      throw LinearSystemError(
+          e.kind(),
+          fmt::format("the tangent is not positive definite at the step's start ({}): a "
+                      "buckling or limit point near t = {:g} (geometry: updated); past a "
+                      "bifurcation `linear: petsc` with an LU factorization (petsc_options: "
+                      "\"-pc_type lu\") can follow the path it is on, but a load control "
+                      "cannot pass a limit point and an arc-length control is not available",
+                      e.what(), c.time));
+    log_.detail("  the tangent is not positive definite at iteration {} ({}): assembled again "
+                "with the scheme's matrix on the step's Green strain, without the initial-stress "
+                "part",
+                iteration, e.what());
+    assemble(c, trial, true, UpdatedMatrix::law_without_stress);
+    factorize();
+  }
+}
+
+void StepMatrix::assemble(const State& c, const State& trial, bool new_elements,
+                          UpdatedMatrix matrix) {
+  ScopedTimer timer(timings_.assembly);
+  const StepStart step_start{c, iterate_.points().start_volume_ratio(), matrix, at_start_};
+  const StepStart* start = updated_ ? &step_start : nullptr;
+  ContactStep& contact = iterate_.contact();
+  if (new_elements || !contact.active() || !system_.restore_cells()) {
+    const auto& tangents = iterate_.points().tangents();
+    const auto& x = iterate_.x();
+    assembled_tangents_ = tangents;
+    system_.assemble_cells(
+        [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x, start, e, b); });
+    if (contact.active()) system_.keep_cells();
+  }
+  if (contact.active())
+    contact.add_matrix(trial,
+                       [&](int a, int b, const Mat3& block) { system_.add_block(a, b, block); });
+}
+
+double StepMatrix::spread_prescribed(const State& c, State& trial) {
+  const auto& dofs = m_.dofs();
+  std::vector<double> du(dofs.n_dofs(), 0.0);
+  bool moved = false;
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (dofs.eq[i] < 0 && trial.u[i] != c.u[i]) du[i] = trial.u[i] - c.u[i], moved = true;
+  if (!par::any(moved)) return 0.0;
+  // K_fp Δu_p of the step's start, cell by cell: ke of the start times the cell's prescribed
+  // increments.
+  std::vector<double> f;
   {
     ScopedTimer timer(timings_.assembly);
-    const State* start = updated_ ? &c : nullptr;
-    ContactStep& contact = iterate_.contact();
-    if (new_elements || !contact.active() || !system_.restore_cells()) {
-      const auto& tangents = iterate_.points().tangents();
-      const auto& x = iterate_.x();
-      assembled_tangents_ = tangents;
-      system_.assemble_cells(
-          [&](int e, CellBuffers& b) { element_matrix(m_, trial, tangents, x, start, e, b); });
-      if (contact.active()) system_.keep_cells();
-    }
-    if (contact.active())
-      contact.add_matrix(trial,
-                         [&](int a, int b, const Mat3& block) { system_.add_block(a, b, block); });
+    const StepStart start{c, iterate_.points().start_volume_ratio(), UpdatedMatrix::exact, true};
+    const auto& mesh = m_.mesh();
+    const auto& tangents = iterate_.points().tangents();
+    f.assign(dofs.n_dofs(), 0.0);
+    m_.assembler().vector(
+        [&](int e, CellBuffers& b) {
+          const auto nodes = mesh.cells.nodes(e);
+          const int nd = 3 * static_cast<int>(nodes.size());
+          std::fill(b.ke, b.ke + nd * nd, 0.0);
+          element_matrix(m_, trial, tangents, iterate_.x(), &start, e, b);
+          for (int r = 0; r < nd; ++r)
+            for (std::size_t a = 0; a < nodes.size(); ++a)
+              for (int d = 0; d < 3; ++d)
+                b.fe[r] += b.ke[r * nd + 3 * static_cast<int>(a) + d] * du[3 * nodes[a] + d];
+        },
+        f, iterate_.points().cells());
+    m_.layout().sum(f, 3);
   }
+  std::vector<double> rhs(dofs.n_free, 0.0);
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) rhs[k] = -f[i];
+  at_start_ = true;
+  assemble(c, trial, true, UpdatedMatrix::exact);
   factorize();
+  system_.set_relative_tolerance(1e-6);
+  {
+    ScopedTimer timer(timings_.solve);
+    system_.solve(rhs, delta_);
+  }
+  for (int i = 0; i < dofs.n_dofs(); ++i)
+    if (int k = dofs.eq[i]; k >= 0) trial.u[i] += delta_[k];
+  return iterate_.norm(f);
 }
 
 void StepMatrix::solve(double residual) {

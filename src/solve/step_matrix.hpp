@@ -7,6 +7,7 @@
 
 #include "core/log.hpp"
 #include "linalg/linear_system.hpp"
+#include "solve/element_matrix.hpp"
 #include "solve/iterate.hpp"
 #include "solve/schemes.hpp"
 
@@ -27,7 +28,19 @@ class StepMatrix {
   /// Assembles the matrix (the elements' part only when `new_elements` or when it was never
   /// kept: a change of the contact alone starts from the elements' part of the last assembly)
   /// and factorizes it.
-  void assemble_and_factorize(const State& c, const State& trial, bool new_elements);
+  /// `iteration`: the iterate's (0 at the step's start; under `updated` a matrix that is not
+  /// positive definite is then the structure's own, else the iterate's, StepStart::matrix).
+  /// `at_start`: under `updated`, the matrix of the step's start whatever the iterate
+  /// (StepStart::at_start), for the schemes whose matrix stays fixed through the step.
+  void assemble_and_factorize(const State& c, const State& trial, bool new_elements,
+                              int iteration, bool at_start);
+  /// Under `updated`, the step's prescribed displacements (trial.u − c.u at the prescribed
+  /// dofs) spread into the body before its first iterate is evaluated: the free dofs move by
+  /// K_ff⁻¹(−K_fp Δu_p) with the matrix of the step's start, so that a boundary moved by more
+  /// than its cells' size does not crush them (the iteration then corrects the rest). Returns
+  /// ‖K Δu_p‖ over the whole model, the forces of the prescribed motion on the body held as it
+  /// was (0 when nothing is prescribed to move): a force scale of the step. Collective.
+  double spread_prescribed(const State& c, State& trial);
   /// The correction of the iterate whose residual is iterate.rhs() (relative `residual`), into
   /// correction().
   void solve(double residual);
@@ -41,6 +54,8 @@ class StepMatrix {
 
  private:
   void factorize();
+  /// The matrix of the iterate (`matrix`: under `updated`, StepStart::matrix).
+  void assemble(const State& c, const State& trial, bool new_elements, UpdatedMatrix matrix);
 
   const Model& m_;
   LinearSystem& system_;
@@ -50,6 +65,7 @@ class StepMatrix {
   bool updated_;                           ///< solver.geometry: updated
   bool changes_with_temperature_ = false;  ///< E or ν depend on a temperature that changes
   bool factorized_ = false;
+  bool at_start_ = false;  ///< the last assembly's StepStart::at_start
   std::vector<Tangent> assembled_tangents_;
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;
