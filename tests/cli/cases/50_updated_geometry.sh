@@ -71,6 +71,27 @@ ex_check "updated, plastic block turned by 90 degrees: stresses and plastic stra
 ex_check "updated, plastic block turned: the equivalent plastic strain unchanged (1e-12), no shear (1e-10 of the stress, 1e-12 of the strain)" "$h" \
   "close(at(2)['c.equivalent_plastic_strain'], at(1)['c.equivalent_plastic_strain'], 1e-12) and max(abs(at(2)['c.stress.' + k]) for k in ('xy', 'yz', 'xz')) < 1e-10 * abs(at(2)['c.stress.yy']) and max(abs(at(2)['c.plastic_strain.' + k]) for k in ('xy', 'yz', 'xz')) < 1e-12"
 
+# --- Finite simple shear far past yield (issue 45; tests/cli/inputs/updated/shear): gamma = 1 in
+# 20 and in 80 steps against the continuum solution of the same model (tests/tools/simple_shear.py
+# at 100000 increments, numpy's own implementation: at 20 increments it gives hencky's 20 steps
+# to 1e-10). Measured at 20 steps: sigma_xy 6e-4 below the continuum's, eps_p 2e-4; the normal
+# stress, which the rotation of the axes within a step makes, 14.7 MPa against 2.9 MPa
+# (2.5 % of sigma_xy), and at 80 steps 5.9 MPa: first order in the step. The continuum's
+# sigma_xy is 0.43 % below the rigid-plastic limit (sigma_y + H gamma/sqrt 3)/sqrt 3.
+"$ex_py" "$src/tests/tools/simple_shear.py" 2e11 0.3 250e6 1e9 1 100000 >"$work/updated/shear-reference.txt"
+shear_ref="[[float(v) for v in l.split()] for l in open('$work/updated/shear-reference.txt') if l[0].isdigit()]"
+up_run shear-20 shear case.yaml
+cp "$h" "$work/updated/shear-20.csv"
+ex_check "updated, simple shear in 20 steps: sigma_xy and eps_p at gamma = 1/4 .. 1 within 1e-3 of the continuum's, rising" "$h" \
+  "(ref := $shear_ref) and all(close(at(g[0])['c.stress.xy'], g[4], 1e-3) and close(at(g[0])['c.equivalent_plastic_strain'], g[5], 1e-3) for g in ref) and all(at(a[0])['c.stress.xy'] < at(b[0])['c.stress.xy'] for a, b in zip(ref, ref[1:]))"
+ex_check "updated, simple shear in 20 steps: no normal stress beyond 4 % of the shear stress" "$h" \
+  "all(abs(r['c.stress.' + k]) < 0.04 * r['c.stress.xy'] for r in h if r['time'] >= 0.25 for k in ('xx', 'yy', 'zz'))"
+up_run shear-80 shear case.yaml 's/^  steps: 20$/  steps: 80/'
+ex_check "updated, simple shear: the normal stress's error falls by more than 3 from 20 steps to 80 (first order)" "$h" \
+  "(ref := $shear_ref) and abs(at(1)['c.stress.xx'] - ref[-1][1]) * 3 < abs(float(list(__import__('csv').DictReader(open('$work/updated/shear-20.csv')))[-1]['c.stress.xx']) - ref[-1][1])"
+ex_check "simple shear: the continuum's sigma_xy at gamma = 1 within 0.5 % of the rigid-plastic limit" "$h" \
+  "(ref := $shear_ref) and close(ref[-1][4], (250e6 + 1e9 / 3 ** 0.5) / 3 ** 0.5, 5e-3)"
+
 # --- A bar pulled plastically by a force (issue 45): Hencky's strain gives the closed form of
 # tests/cli/inputs/updated/bar/case.yaml at 1, 10 and 100 steps (measured: 1e-12 apart, the
 # closed form's tip to 4e-14; the Green strain of each step gave -24 %, -15 % and -3.4 %).
@@ -120,6 +141,23 @@ cp "$h" "$work/updated/elastica-20-10.csv"
 el_err5='(lambda f: abs(float(list(__import__("csv").DictReader(open(f)))[-1]["tip.displacement.y"]) / el.elastica(5)[1] - 1))'
 ex_check "updated, elastica: each halving of the elements divides the error at PL^2/EI = 5 by more than 8" "$h" \
   "$el_import and (el := __import__('elastica')) and $el_err5('$work/updated/elastica-10-10.csv') > 8 * $el_err5('$work/updated/elastica-20-10.csv') > 64 * $el_err5('$work/updated/elastica-40-10.csv')"
+
+# --- A limit point says so (issue 45): the strip of the elastica pushed along its axis by its
+# tip, PL^2/EI = 5t, buckles at Euler's pi^2/4 (t = 0.4935). The perfect column stays straight on
+# the unstable path; the first step that starts beyond the buckling load finds the tangent not
+# positive definite there and stops, naming a buckling or limit point near that time.
+d="$work/updated/column"
+rm -rf "$d"
+mkdir -p "$d"
+cp "$src/tests/cli/inputs/updated/elastica"/* "$d/"
+sed -i -E 's/^n = 40;/n = 10;/' "$d/beam.geo"
+sed -i -E 's|^    force: \[0, "5\*t \* 1e9\*0.02\*0.01\^3/12", 0\]$|    force: ["-5*t * 1e9*0.02*0.01^3/12", 0, 0]|; s/^  steps: 50$/  steps: 10/' "$d/case.yaml"
+grep -q '^    force: \["-5' "$d/case.yaml" || bad "column: the elastica's force line was not found"
+expect "updated, column past Euler's load: stops, naming a buckling or limit point" 2 \
+  "the tangent is not positive definite at the step's start .*a buckling or limit point near t = 0.5 " -- \
+  run "$d/case.yaml" --quiet
+ex_check "updated, column: the last converged step is the first beyond Euler's load (t = 0.4935)" \
+  "$d/case.out/history.csv" "0.4935 <= h[-1]['time'] < 0.4935 + 0.1"
 
 # --- For a small load, updated agrees with small to the order of the load: PL^2/EI = 5e-3.
 up_run elastica-small-load elastica case.yaml 's/^  steps: 50$/  steps: 5/; s/"5\*t \* 1e9/"5e-3*t * 1e9/'
