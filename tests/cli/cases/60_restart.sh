@@ -48,6 +48,20 @@ expect "restart: from the newest checkpoint into the same directory" 0 \
   --restart "$rd/newton-copy.out" -o "$rd/newton-copy.out"
 identical "restart: ... which keeps every output" "$rd/newton.out" "$rd/newton-copy.out"
 
+# --- geometry: updated (issue 45): the plastically stretched block turned by 90 degrees,
+# restarted in the stretch (t = 0.6) and in the rotation (t = 1.4). The configuration and
+# J(t) of a step are the state's; nothing else is carried.
+mkdir -p "$rd/upd"
+cp "$src/tests/cli/inputs/updated/rotation/plastic.yaml" "$src/tests/cli/inputs/updated/rotation/block.geo" "$rd/upd/"
+sed -i -E 's/^  probes:/  every: 1\n  probes:/' "$rd/upd/plastic.yaml"
+"$bin" run "$rd/upd/plastic.yaml" --quiet >/dev/null 2>&1 || bad "restart: the updated run failed"
+for from in 0.6 1.4; do
+  expect "restart: updated, plastic rotation from t = $from" 0 "" -- run "$rd/upd/plastic.yaml" \
+    --quiet --restart "$rd/upd/plastic.out" --from "$from" -o "$rd/upd/from-$from.out"
+  identical "restart: updated, plastic rotation from t = $from is the uninterrupted run, to the bit" \
+    "$rd/upd/plastic.out" "$rd/upd/from-$from.out"
+done
+
 # --- An elastic model: the thermal plate (temperature-dependent E and α, four steps).
 cp -r "$src/examples/thermal-plate" "$rd/tp"
 rm -rf "$rd/tp"/*.out
