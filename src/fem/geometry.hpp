@@ -87,10 +87,11 @@ struct CellKinematics {
 /// The deformation of one step on a cell (solver.geometry: updated), in the updated
 /// Lagrangian form of Bathe (Finite Element Procedures, 1996, sec. 6.2.3): `kin` holds the
 /// cell's kinematics on the configuration x at the step's start, Δu the step's nodal
-/// displacements, F = I + ∂Δu/∂x at each point. The step's strain is the Green–Lagrange
-/// strain E = (FᵀF − I)/2 relative to x, zero for a rigid motion of any size; the stress the
-/// point law returns is the second Piola–Kirchhoff stress S relative to x, the Cauchy stress
-/// is J⁻¹ F S Fᵀ, and the internal forces are ∫ F S ∇N_a dx, the exact ones at t + Δt pulled
+/// displacements, F = I + ∂Δu/∂x at each point. The step's kinematics are given by the
+/// Green–Lagrange strain E = (FᵀF − I)/2 relative to x, zero for a rigid motion of any size
+/// (HenckyStep, fem/hencky_strain.hpp, makes the point laws' logarithmic strain of C = I + 2E
+/// and S of their Kirchhoff stress); S is the second Piola–Kirchhoff stress relative to x,
+/// the Cauchy stress is J⁻¹ F S Fᵀ, and the internal forces are ∫ F S ∇N_a dx, the exact ones at t + Δt pulled
 /// back to x. For B-bar cells the trace of E takes the cell's mean, as the small strain's does
 /// (CellKinematics), so that its variation is B̄_L, with the corrections
 /// c_a = F⁻¹ d̄_a − ∇N_a, d̄_a the cell's mean of F ∇N_a:  δĒ = B(∇N_a + c_a/3 in the trace)·Fᵀδu_a.

@@ -55,17 +55,19 @@ void point_tensors(const Model& model, const State& state, int e, CellKinematics
   const bool updated = model.spec().solver.updated_geometry;
   Vec3 x[max_cell_nodes];
   double u[3 * max_cell_nodes];
-  if (!updated) {  // the total strain sym ∇u on the undeformed mesh
-    for (int a = 0; a < n_cell_nodes; ++a) {
-      x[a] = mesh.x[nodes[a]];
-      for (int d = 0; d < 3; ++d) u[3 * a + d] = state.u[3 * nodes[a] + d];
-    }
-    kin.compute(tab, std::span<const Vec3>(x, n_cell_nodes));
+  // The total strain sym ∇u on the undeformed mesh; under `updated`, ∇u gives J = det F.
+  for (int a = 0; a < n_cell_nodes; ++a) {
+    x[a] = mesh.x[nodes[a]];
+    for (int d = 0; d < 3; ++d) u[3 * a + d] = state.u[3 * nodes[a] + d];
   }
+  kin.compute(tab, std::span<const Vec3>(x, n_cell_nodes));
   for (int q = 0; q < tab.n_points; ++q) {
     const int p = p0 + q;
     const ElasticConstants& k = state.constants[p];
-    const Voigt elastic = k.compliance() * state.stress[p];
+    // Under `updated` the elastic strain is Hencky's, A τ with the Kirchhoff stress τ = Jσ.
+    const double j =
+        updated ? (Mat3::Identity() + kin.gradient(q, u)).determinant() : 1.0;
+    const Voigt elastic = k.compliance() * (updated ? Voigt(j * state.stress[p]) : state.stress[p]);
     const Voigt thermal = volumetric(model.thermal_strain(e, k, state.temperature[p]));
     // Under `geometry: updated` the strain of the displacement on the undeformed mesh means
     // nothing once the body turns: the total strain is the sum of the objective increments,

@@ -105,6 +105,8 @@ for steps in 1 10 100; do
   ex_check "updated, plastic bar in $steps steps: the true stress F/A of the closed form within 1e-6" "$h" \
     "close(at(1)['centre.stress.zz'], $bar_sigma, 1e-6)"
 done
+ex_check "updated, plastic bar: the written strain is the logarithmic strain tau/E + eps_p within 1e-6" "$h" \
+  "close(at(1)['centre.strain.zz'], $bar_tau / 210000 + ($bar_tau - 800) / 8000, 1e-6)"
 
 # --- The elastica: a cantilever strip under a fixed-direction tip load, PL^2/EI = 5t.
 # el_error ALPHA [x]: Python for the relative error of the tip deflection (or, with x, of the
