@@ -1,6 +1,10 @@
 #pragma once
-// What the tests of a material point share (test_plastic_point.cpp, test_kinematic.cpp): a
-// property table of one value, a steel, a linear hardening curve, a tangent by differences.
+// What the tests of a material point share (test_plastic_point.cpp, test_kinematic.cpp,
+// test_hencky_strain.cpp): a
+// property table of one value, a steel, a linear hardening curve, a random Voigt vector, a
+// tangent by differences.
+#include <random>
+
 #include "core/types.hpp"
 #include "material/elastic.hpp"
 #include "spec/case.hpp"
@@ -21,6 +25,14 @@ inline PlasticitySpec linear_spec(double yield, double hardening) {
   s.curve.yield = constant(yield);
   s.curve.hardening = constant(hardening);
   return s;
+}
+
+/// A Voigt vector of components uniform in [−scale, scale].
+inline Voigt random_voigt(std::mt19937& g, double scale) {
+  std::uniform_real_distribution<double> d(-1, 1);
+  Voigt v;
+  for (int i = 0; i < 6; ++i) v[i] = scale * d(g);
+  return v;
 }
 
 /// dσ/dx of a point update `sigma(x)` by central differences with step h, column by column:

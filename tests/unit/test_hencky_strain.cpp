@@ -17,13 +17,6 @@ namespace {
 
 using namespace point_support;
 
-Voigt random_voigt(std::mt19937& g, double scale) {
-  std::uniform_real_distribution<double> d(-1, 1);
-  Voigt v;
-  for (int i = 0; i < 6; ++i) v[i] = scale * d(g);
-  return v;
-}
-
 TEST(HenckyStrain, HalfLogDifferenceIsSmoothAcrossEqualArguments) {
   // With a = b·e^s: ½ s/(a − b) = 1/(2√(ab)) · (s/2)/sinh(s/2).
   for (double b : {0.5, 1.0, 3.0})

@@ -15,13 +15,6 @@ namespace {
 using namespace point_support;
 const IsotropicLaw isotropic;
 
-Voigt random_voigt(std::mt19937& g, double scale) {
-  std::uniform_real_distribution<double> d(-1, 1);
-  Voigt v;
-  for (int i = 0; i < 6; ++i) v[i] = scale * d(g);
-  return v;
-}
-
 /// ε̃ of a strain vector (engineering shears), (1.18) with c = 4/9.
 double strain_intensity(const Voigt& e) {
   Voigt r = e;
