@@ -182,14 +182,6 @@ void CellDeformation::add_force(const CellKinematics& kin, int q, const Voigt& S
   }
 }
 
-Voigt CellDeformation::cauchy(int q, const Voigt& S) const {
-  return voigt_of(F[q] * tensor_of(S, 1) * F[q].transpose() / J[q], 1);
-}
-
-Voigt CellDeformation::second_piola(int q, const Voigt& sigma) const {
-  return voigt_of(J[q] * F_inv[q] * tensor_of(sigma, 1) * F_inv[q].transpose(), 1);
-}
-
 Mat3 CellDeformation::rotation(int q) const {
   const Eigen::JacobiSVD<Mat3> svd(F[q], Eigen::ComputeFullU | Eigen::ComputeFullV);
   return svd.matrixU() * svd.matrixV().transpose();

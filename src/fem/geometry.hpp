@@ -109,9 +109,6 @@ struct CellDeformation {
   const double* corr(int q) const { return &c[static_cast<std::size_t>(q) * 3 * n]; }
   /// f_a += w·F(S∇N_a + tr(S)/3·c_a): the internal force of S at point q.
   void add_force(const CellKinematics& kin, int q, const Voigt& S, double w, double* f) const;
-  /// J⁻¹ F S Fᵀ and its inverse J F⁻¹ σ F⁻ᵀ.
-  Voigt cauchy(int q, const Voigt& S) const;
-  Voigt second_piola(int q, const Voigt& sigma) const;
   /// The rotation R of the polar decomposition F = R U.
   Mat3 rotation(int q) const;
 };

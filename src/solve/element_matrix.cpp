@@ -127,14 +127,18 @@ void updated_matrix(const Model& m, const StepStart& step_start, const State& tr
     const double* g = kin.grad(q);
     const int p = m.point_offset(e) + q;
     const double j_t = step_start.volume_ratio[p];
-    const Voigt S = def.second_piola(q, stressed.stress[p]);
+    // S of the iterate's Kirchhoff stress τ = Jσ in the frame of x, as the forces take it
+    // (PointPass::update): U⁻¹τ̂U⁻¹/J(t) of the (B-bar) C̄.
+    HenckyStep hencky;
+    hencky.start(start.constants[p].compliance() * (j_t * start.stress[p]));
+    hencky.increment(def.E[q]);
+    const Voigt tau = rotate_stress(def.rotation(q).transpose(),
+                                    (j_t * def.J[q]) * stressed.stress[p]);
+    const Voigt S = hencky.second_piola(tau, j_t);
     if (step_start.matrix != UpdatedMatrix::exact) {
       add_material_part(n, g, kin.bbar ? def.corr(q) : nullptr, plastic ? tangents[p] : elastic,
                         trial.constants[p], w, &def.F[q], b.ke);
     } else {
-      HenckyStep hencky;
-      hencky.start(start.constants[p].compliance() * (j_t * start.stress[p]));
-      hencky.increment(def.E[q]);
       const ElasticConstants& k = trial.constants[p];
       const Mat6 c = hencky.tangent(S, plastic ? tangents[p].matrix(k) : k.stiffness(), j_t);
       add_material_matrix(n, g, kin.bbar ? def.corr(q) : nullptr, c, w, def.F[q], b.ke);

@@ -244,9 +244,11 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
           if (updated) {
             const Voigt S = hencky.second_piola(trial.stress[p], start_volume_ratio_[p]);
             def.add_force(kin, q, S, kin.dv[q], b.fe);
-            trial.stress[p] = def.cauchy(q, S);
+            // σ = RτRᵀ/J with J = J(t)·det F, so that the next step's τ(t) = Jσ is the law's τ.
+            // It is J⁻¹FSFᵀ, but in a B-bar cell, whose S is that of C̄ and not of C.
+            const Mat3 r = def.rotation(q);
+            trial.stress[p] = rotate_stress(r, trial.stress[p]) / (start_volume_ratio_[p] * def.J[q]);
             if (plastic) {
-              const Mat3 r = def.rotation(q);
               trial.plastic_strain[p] = rotate_strain(r, trial.plastic_strain[p]);
               rotate_law_state(*mat.law, r, trial, p);
             }
