@@ -301,16 +301,10 @@ void Equilibrium::report(const StepOutcome& out) const {
 }
 
 /// Every measure within the tolerance, after at least one solve. Under `geometry: updated`
-/// the last correction of the displacements too, relative to the step's increment: the
-/// residual is relative to the step's force scale, which a prescribed motion sets (the forces
-/// of that motion on the body held as it was, StepMatrix::spread_prescribed), and where the
-/// answer is a rigid motion that scale says nothing of it. A plastically stretched block turned
-/// by 90° stopped at residuals of 1e-7 that left points flowing in a rigid rotation (its
-/// equivalent plastic strain grew by 1.4e-6 of itself); with the correction bounded it keeps it
-/// to 1e-14. A correction no smaller than half the one before says no more than the residual:
-/// the iteration has reached its round-off (a plastic body at rest after unloading, moved
-/// 4e-15 m by its step, with corrections of 1e-15 m), or converges too slowly for the last
-/// correction to bound its error.
+/// the last correction of the displacements too, relative to the step's increment, unless it
+/// is no smaller than half the one before (round-off, or too slow a convergence for it to say
+/// more than the residual): where the answer is a rigid motion the step's force scale, which a
+/// prescribed motion sets, says nothing of it (docs/schemes.md, "Convergence under updated").
 bool Equilibrium::converged(const StepOutcome& out) const {
   const double tol = m_.spec().solver.tolerance;
   const bool measures_ok = !policy_.plastic || (out.delta_sigma <= tol && out.delta_eps <= tol);
@@ -359,7 +353,12 @@ void Equilibrium::advance(const State& c, State& trial, const Evaluation& ev, in
   // step's start (StepStart::at_start, docs/schemes.md "The matrix, and newton under updated").
   const bool at_start = iteration == 0 || scheme_->matrix_policy() != MatrixPolicy::per_iteration;
   if (refactor) matrix_.assemble_and_factorize(c, trial, new_elements, iteration, at_start);
-  matrix_.solve(residual);
+  try {
+    matrix_.solve(residual);
+  } catch (const LinearSystemError& e) {  // under `updated`, an indefinite matrix (CG)
+    if (!matrix_.fall_back(c, trial, iteration, e)) throw;
+    matrix_.solve(residual);
+  }
   std::vector<double>& delta = matrix_.correction();
   mixing_.mix_correction(trial, delta, iteration, residual, refactor);
   if (search_.applies(iteration, residual, m_.spec().solver.tolerance))

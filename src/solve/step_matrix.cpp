@@ -36,6 +36,23 @@ bool StepMatrix::needs_elements(int iteration, int first_iteration, bool tangent
            (policy == MatrixPolicy::per_step && iteration <= first_iteration + 1)));
 }
 
+namespace {
+/// The failure of the tangent of a converged state under `updated` (a step's start). At t = 0
+/// the body is undeformed and free of stress: its matrix is the small strain's, and a failure
+/// is a body not held (the step control says so).
+LinearSystemError limit_point(const LinearSystemError& e, double t) {
+  if (t == 0) return e;
+  return LinearSystemError(
+      e.kind(), fmt::format("the tangent is not positive definite at the step's start ({}): a "
+                            "buckling or limit point near t = {:g} (geometry: updated), or a "
+                            "body its supports do not hold; past a bifurcation `linear: petsc` with an LU factorization "
+                            "(petsc_options: \"-pc_type lu\") can follow the path it is on, but "
+                            "a load control cannot pass a limit point and an arc-length control "
+                            "is not available",
+                            e.what(), t));
+}
+}  // namespace
+
 void StepMatrix::assemble_and_factorize(const State& c, const State& trial, bool new_elements,
                                         int iteration, bool at_start) {
   at_start_ = at_start;
@@ -45,8 +62,9 @@ void StepMatrix::assemble_and_factorize(const State& c, const State& trial, bool
   // the answer: the first iterates of a slender strip under a follower pressure strain its tip
   // by tens of per cent, where the initial-stress part of Hencky's S in compression (E ln λ/λ²
   // in uniaxial compression, against the Green strain's E(λ² − 1)/2) makes the matrix
-  // indefinite (examples/cantilever-hook on 25 elements: every other step cut back, the
-  // scheme's matrix on the step's Green strain with the initial-stress part indefinite too).
+  // indefinite (examples/cantilever-hook on 25 elements: each of its 45 steps was cut back
+  // once, and the scheme's matrix on the Green strain with the initial-stress part was
+  // indefinite too).
   // Such an iterate goes on with the scheme's matrix on the Green strain and no initial-stress
   // part, positive definite wherever the scheme's matrix is and the body is held: the matrix
   // changes the path of the iteration, not its answer. At the step's start the state is a
@@ -55,27 +73,28 @@ void StepMatrix::assemble_and_factorize(const State& c, const State& trial, bool
   try {
     factorize();
   } catch (const LinearSystemError& e) {
-    if (iteration == 0)
-      throw LinearSystemError(
-          e.kind(),
-          fmt::format("the tangent is not positive definite at the step's start ({}): a "
-                      "buckling or limit point near t = {:g} (geometry: updated); past a "
-                      "bifurcation `linear: petsc` with an LU factorization (petsc_options: "
-                      "\"-pc_type lu\") can follow the path it is on, but a load control "
-                      "cannot pass a limit point and an arc-length control is not available",
-                      e.what(), c.time));
-    log_.detail("  the tangent is not positive definite at iteration {} ({}): assembled again "
-                "with the scheme's matrix on the step's Green strain, without the initial-stress "
-                "part",
-                iteration, e.what());
-    assemble(c, trial, true, UpdatedMatrix::law_without_stress);
-    factorize();
+    if (iteration == 0) throw limit_point(e, c.time);
+    if (!fall_back(c, trial, iteration, e)) throw;
   }
+}
+
+bool StepMatrix::fall_back(const State& c, const State& trial, int iteration,
+                           const LinearSystemError& e) {
+  // An iterative solver (CG) finds an indefinite matrix in the solve, not in a factorization.
+  if (!updated_ || iteration == 0 || last_matrix_ != UpdatedMatrix::exact) return false;
+  log_.detail("  the tangent is not positive definite at iteration {} ({}): assembled again "
+              "with the scheme's matrix on the step's Green strain, without the initial-stress "
+              "part",
+              iteration, e.what());
+  assemble(c, trial, true, UpdatedMatrix::law_without_stress);
+  factorize();
+  return true;
 }
 
 void StepMatrix::assemble(const State& c, const State& trial, bool new_elements,
                           UpdatedMatrix matrix) {
   ScopedTimer timer(timings_.assembly);
+  last_matrix_ = matrix;
   const StepStart step_start{c, iterate_.points().start_volume_ratio(), matrix, at_start_};
   const StepStart* start = updated_ ? &step_start : nullptr;
   ContactStep& contact = iterate_.contact();
@@ -127,7 +146,11 @@ double StepMatrix::spread_prescribed(const State& c, State& trial) {
     if (int k = dofs.eq[i]; k >= 0) rhs[k] = -f[i];
   at_start_ = true;
   assemble(c, trial, true, UpdatedMatrix::exact);
-  factorize();
+  try {
+    factorize();
+  } catch (const LinearSystemError& e) {
+    throw limit_point(e, c.time);  // the converged state's own tangent
+  }
   system_.set_relative_tolerance(1e-6);
   {
     ScopedTimer timer(timings_.solve);

@@ -41,6 +41,11 @@ class StepMatrix {
   /// ‖K Δu_p‖ over the whole model, the forces of the prescribed motion on the body held as it
   /// was (0 when nothing is prescribed to move): a force scale of the step. Collective.
   double spread_prescribed(const State& c, State& trial);
+  /// Under `updated`, after the matrix of iterate `iteration` (> 0) failed to factorize or to
+  /// solve (e): the matrix assembled again with the scheme's matrix on the step's Green strain
+  /// and no initial-stress part, and factorized. Returns false (nothing done) where that does
+  /// not apply: the caller rethrows.
+  bool fall_back(const State& c, const State& trial, int iteration, const LinearSystemError& e);
   /// The correction of the iterate whose residual is iterate.rhs() (relative `residual`), into
   /// correction().
   void solve(double residual);
@@ -66,6 +71,7 @@ class StepMatrix {
   bool changes_with_temperature_ = false;  ///< E or ν depend on a temperature that changes
   bool factorized_ = false;
   bool at_start_ = false;  ///< the last assembly's StepStart::at_start
+  UpdatedMatrix last_matrix_ = UpdatedMatrix::exact;  ///< the last assembly's StepStart::matrix
   std::vector<Tangent> assembled_tangents_;
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;
