@@ -243,6 +243,11 @@ class Model {
   /// The volume cell that owns boundary face f (holds all its corner nodes); -1 when none
   /// does, -2 when two do (an inner face). nc_*: node_cell_incidence of the cells.
   int face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx) const;
+  /// face_owner, or the input error (at `where`) that face f of `region` is no outer face, for
+  /// which `what` ("a pressure must be applied") then says what needs one.
+  int outer_face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx,
+                       const SourceLocation& where, const std::string& region,
+                       const std::string& what) const;
   /// join()'s checks of what no part can judge alone: a region empty on every rank, a body
   /// without supports or without a free dof. Collective.
   void check_whole() const;

@@ -48,15 +48,8 @@ void Model::bind_boundary() {
         normal += nq * t.weights[q];
         area += nq.norm() * t.weights[q];
       }
-      const int owner = face_owner(f, nc_ptr, nc_idx);
-      if (owner < 0)
-        throw InputError(bc.where,
-                         fmt::format("face {} of region '{}' is {}; a {} must be applied on the "
-                                     "outer surface of the body",
-                                     mesh_.faces.tag[f], r.name,
-                                     owner == -1 ? "not a face of any volume element"
-                                                 : "inside the body (between two elements)",
-                                     to_string(bc.kind)));
+      const int owner = outer_face_owner(f, nc_ptr, nc_idx, bc.where, r.name,
+                                         fmt::format("a {} must be applied", to_string(bc.kind)));
       Vec3 cell_centre = Vec3::Zero(), face_centre = Vec3::Zero();
       const auto cn = mesh_.cells.nodes(owner);
       for (int n : cn) cell_centre += mesh_.x[n] / static_cast<double>(cn.size());
@@ -101,6 +94,20 @@ int Model::face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<i
   return n_owners > 1 ? -2 : owner;
 }
 
+int Model::outer_face_owner(int f, const std::vector<int>& nc_ptr, const std::vector<int>& nc_idx,
+                            const SourceLocation& where, const std::string& region,
+                            const std::string& what) const {
+  const int owner = face_owner(f, nc_ptr, nc_idx);
+  if (owner < 0)
+    throw InputError(where, fmt::format("face {} of region '{}' is {}; {} on the outer surface "
+                                        "of the body",
+                                        mesh_.faces.tag[f], region,
+                                        owner == -1 ? "not a face of any volume element"
+                                                    : "inside the body (between two elements)",
+                                        what));
+  return owner;
+}
+
 void Model::bind_heat() {
   const HeatSpec& heat = case_->heat;
   if (!heat.given) return;
@@ -123,15 +130,8 @@ void Model::bind_heat() {
       throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",
                                              r.name, to_string(bc.kind)));
     for (int f : r.cells) {
-      const int owner = face_owner(f, nc_ptr, nc_idx);
-      if (owner < 0)
-        throw InputError(bc.where,
-                         fmt::format("face {} of region '{}' is {}; a {} condition acts on the "
-                                     "outer surface of the body",
-                                     mesh_.faces.tag[f], r.name,
-                                     owner == -1 ? "not a face of any volume element"
-                                                 : "inside the body (between two elements)",
-                                     to_string(bc.kind)));
+      const int owner = outer_face_owner(f, nc_ptr, nc_idx, bc.where, r.name,
+                                         fmt::format("a {} condition acts", to_string(bc.kind)));
       HeatFace hf{f, static_cast<int>(b), owner, {}};
       const auto fn = mesh_.faces.nodes(f);
       const auto cn = mesh_.cells.nodes(owner);
