@@ -15,10 +15,9 @@ namespace hencky {
 
 PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme& scheme)
     : m_(m), only_(only), plastic_(m.has_plasticity()), scheme_(scheme) {
-  if (m.spec().solver.updated_geometry) {
-    reference_volume_ = point_volumes(m_, m.mesh().x);
-    start_volume_ratio_.assign(m.n_points(), 1.0);
-  }
+  const bool updated = m.spec().solver.updated_geometry;
+  if (plastic_ || updated) point_volumes(m_, m.mesh().x, point_volume_);
+  if (updated) start_volume_ratio_.assign(m.n_points(), 1.0);
   if (!plastic_) return;
   const int n = m.n_points();
   point_step_.resize(n);
@@ -26,12 +25,12 @@ PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme
   tangent_.assign(n, Tangent{});
   defect_sigma_.assign(n, 0.0);
   defect_eps_.assign(n, 0.0);
-  point_volume_ = reference_volume_.empty() ? point_volumes(m_, m.mesh().x) : reference_volume_;
 }
 
 /// The volume weight dv = det J·w of every point of this rank's cells on the configuration x.
-std::vector<double> PointPass::point_volumes(const Model& m, const std::vector<Vec3>& config) {
-  std::vector<double> v(m.n_points(), 0.0);
+void PointPass::point_volumes(const Model& m, const std::vector<Vec3>& config,
+                              std::vector<double>& v) {
+  v.assign(m.n_points(), 0.0);
   const auto& mesh = m.mesh();
   CellKinematics kin;
   Vec3 x[max_cell_nodes];
@@ -42,14 +41,13 @@ std::vector<double> PointPass::point_volumes(const Model& m, const std::vector<V
     kin.compute(reference_table(mesh.cells.type[e]), std::span<const Vec3>(x, nodes.size()));
     for (int q = 0; q < kin.points; ++q) v[m.point_offset(e) + q] = kin.dv[q];
   }
-  return v;
 }
 
 void PointPass::set_configuration(const std::vector<Vec3>& x) {
-  if (reference_volume_.empty()) return;
-  start_volume_ratio_ = point_volumes(m_, x);
+  if (start_volume_ratio_.empty()) return;
+  point_volumes(m_, x, start_volume_ratio_);
   for (std::size_t p = 0; p < start_volume_ratio_.size(); ++p)
-    if (reference_volume_[p] > 0) start_volume_ratio_[p] /= reference_volume_[p];
+    if (point_volume_[p] > 0) start_volume_ratio_[p] /= point_volume_[p];
 }
 
 Voigt PointPass::start_stress(const State& c, int p) const {

@@ -46,8 +46,9 @@ class PointPass {
   /// The stress the point law starts the step from: σ(t), or the Kirchhoff stress J(t)σ(t)
   /// under `updated`.
   Voigt start_stress(const State& c, int p) const;
-  /// The volume weight dv = det J·w of every point of this rank's cells on the configuration x.
-  static std::vector<double> point_volumes(const Model& m, const std::vector<Vec3>& x);
+  /// The volume weight dv = det J·w of every point of this rank's cells on the configuration x,
+  /// into v.
+  static void point_volumes(const Model& m, const std::vector<Vec3>& x, std::vector<double>& v);
   /// Stresses, plastic state and internal forces of the iterate trial.u (elastic points:
   /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
   /// the scheme's matrices for the next solve, and the measures. Collective.
@@ -118,10 +119,9 @@ class PointPass {
   std::vector<PointIteration> point_iter_, saved_iter_;
   std::vector<Tangent> tangent_;  ///< per point: the scheme's matrix of the last update
   std::vector<Tangent> saved_tangent_;
+  /// point_volume_: the points' volume weights on the mesh (plastic materials or `updated`).
   std::vector<double> defect_sigma_, defect_eps_, point_volume_;
-  /// Under `updated`: the points' volume weights on the mesh, and J(t) = dv/dV at the step's
-  /// start.
-  std::vector<double> reference_volume_, start_volume_ratio_;
+  std::vector<double> start_volume_ratio_;  ///< under `updated`: J(t) = dv/dV at the step's start
 };
 
 }  // namespace hencky
