@@ -29,6 +29,18 @@ bool StepMatrix::needs_elements(int iteration, int first_iteration, bool tangent
   // step's start, and for the schemes whose matrix follows the iterate (newton,
   // variable-stiffness) at every iteration: the iterate's deformation and stress enter it
   // (updated_matrix, element_matrix.cpp), also for elastic points.
+  // Under `updated` the step's start matrix that spread_prescribed factorized is the one the
+  // first solve takes (StepStart::at_start: it does not depend on the iterate), unless the
+  // points' matrices it was made of changed since.
+  if (iteration == 0 && start_factorized_) {
+    const auto& now = iterate_.points().tangents();
+    bool same = now.size() == assembled_tangents_.size();
+    for (std::size_t p = 0; same && p < now.size(); ++p) {
+      const Tangent &a = now[p], &b = assembled_tangents_[p];
+      same = a.dev_scale == b.dev_scale && a.coef == b.coef && a.v == b.v;
+    }
+    if (same) return false;
+  }
   return !factorized_ || (iteration == 0 && (changes_with_temperature_ || updated_)) ||
          (updated_ && policy == MatrixPolicy::per_iteration) ||
          (tangent_changed &&
@@ -95,6 +107,7 @@ void StepMatrix::assemble(const State& c, const State& trial, bool new_elements,
                           UpdatedMatrix matrix) {
   ScopedTimer timer(timings_.assembly);
   last_matrix_ = matrix;
+  start_factorized_ = false;
   const StepStart step_start{c, iterate_.points().start_volume_ratio(), matrix, at_start_};
   const StepStart* start = updated_ ? &step_start : nullptr;
   ContactStep& contact = iterate_.contact();
@@ -131,6 +144,9 @@ double StepMatrix::spread_prescribed(const State& c, State& trial) {
         [&](int e, CellBuffers& b) {
           const auto nodes = mesh.cells.nodes(e);
           const int nd = 3 * static_cast<int>(nodes.size());
+          bool any = false;  // most cells have no prescribed node that moves
+          for (int n : nodes) any = any || du[3 * n] != 0 || du[3 * n + 1] != 0 || du[3 * n + 2] != 0;
+          if (!any) return;
           std::fill(b.ke, b.ke + nd * nd, 0.0);
           element_matrix(m_, trial, tangents, iterate_.x(), &start, e, b);
           for (int r = 0; r < nd; ++r)
@@ -151,6 +167,7 @@ double StepMatrix::spread_prescribed(const State& c, State& trial) {
   } catch (const LinearSystemError& e) {
     throw limit_point(e, c.time);  // the converged state's own tangent
   }
+  start_factorized_ = true;  // the step's first solve may take it (needs_elements)
   system_.set_relative_tolerance(1e-6);
   {
     ScopedTimer timer(timings_.solve);

@@ -72,6 +72,7 @@ class StepMatrix {
   bool factorized_ = false;
   bool at_start_ = false;  ///< the last assembly's StepStart::at_start
   UpdatedMatrix last_matrix_ = UpdatedMatrix::exact;  ///< the last assembly's StepStart::matrix
+  bool start_factorized_ = false;  ///< the factorized matrix is spread_prescribed's, unchanged
   std::vector<Tangent> assembled_tangents_;
   bool options_checked_ = false;  ///< unused options of the back end were reported
   int factorizations_ = 0;
