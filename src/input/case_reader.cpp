@@ -122,7 +122,7 @@ bool flat_from_yield(const CurveSpec& curve) {
 /// The schemes that iterate on the strain form of the curve stop at once on a curve that has
 /// none above its yield stress, instead of failing the first plastic step after iterating.
 void check_strain_form(const Case& c) {
-  if (!make_scheme(c.solver.scheme, c.solver.curve_form, c.solver.relaxation)->uses_strain_form())
+  if (!make_scheme(c.solver)->uses_strain_form())
     return;
   for (const auto& m : c.materials)
     if (m.plasticity && flat_from_yield(m.plasticity->curve))

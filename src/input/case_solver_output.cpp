@@ -20,7 +20,8 @@ namespace {
 const std::vector<std::string> solver_keys = {
     "scheme",    "curve_form",   "steps",       "end",           "times",    "max_iterations",
     "tolerance", "relaxation",   "correction",  "cutback",       "linear",   "mechanism_limit",
-    "predictor", "acceleration", "line_search", "petsc_options", "geometry", "correction_form"};
+    "predictor", "acceleration", "line_search", "petsc_options", "geometry", "correction_form",
+    "formulation"};
 // clang-format on
 const std::vector<std::string> schemes(scheme_names.begin(), scheme_names.end());
 const std::vector<std::string> curve_forms = {"stress", "strain"};
@@ -29,9 +30,11 @@ const std::vector<std::string> accelerations = {"auto", "none", "anderson"};  //
 const std::vector<std::string> auto_none = {"auto", "none"};
 const std::vector<std::string> geometries = {"small", "updated"};
 const std::vector<std::string> correction_forms = {"previous", "current"};
+const std::vector<std::string> formulations = {"hencky", "report"};
 const std::vector<std::string> linear_solvers = {"auto", "direct", "iterative", "petsc"};
 const std::vector<std::string> output_keys = {
-    "dir", "every", "probes", "reactions", "heat_flows", "checkpoint", "checkpoint_keep"};
+    "dir", "every", "probes", "reactions", "heat_flows", "checkpoint", "checkpoint_keep",
+    "iterations"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 
 const KeySection sections[] = {
@@ -100,11 +103,40 @@ void read_acceleration(const Reader& r, const Val& x, SolverSpec& s) {
   s.acceleration = index_of(accelerations, r.choice(x, accelerations, "acceleration"), A::none);
   // Anderson mixing needs a fixed map: a fixed matrix within the step.
   if (s.acceleration == A::anderson &&
-      !make_scheme(s.scheme, s.curve_form, s.relaxation)->allows_acceleration())
+      !make_scheme(s)->allows_acceleration())
     r.fail(x,
            "acceleration: anderson applies to the fixed-matrix schemes initial-stress, "
            "initial-stress-stiffness, initial-strain and initial-strain-stiffness, not to '" +
                std::string(scheme_name(s.scheme)) + "'");
+}
+
+/// formulation: report refuses what would add one of hencky's strategies to the report's
+/// iteration, each by its key: newton (not a report scheme), `acceleration: anderson`,
+/// `line_search: auto`, `relaxation: auto` and `geometry: updated` (the report's iteration with
+/// Hencky's finite strain is not written yet). Without a number ω is the report's plain 1.
+void check_report(const Reader& r, const Map& m, SolverSpec& s) {
+  const std::string use = "; solver.formulation: hencky runs it";
+  if (s.scheme == SchemeKind::newton)
+    r.fail(m.has("scheme") ? *m.get("scheme") : *m.get("formulation"),
+           "formulation: report runs the report's five schemes (variable-stiffness, "
+           "initial-strain, initial-strain-stiffness, initial-stress, initial-stress-stiffness); "
+           "newton, hencky's reference scheme, is not one of them" +
+               use);
+  const auto refuse = [&](const char* key, const std::string& value, const std::string& what) {
+    if (auto x = m.get(key); x && x->node.IsScalar() && trim(x->node.Scalar()) == value)
+      r.fail(*x, std::string("formulation: report iterates as the report writes it, without ") +
+                     what + use);
+  };
+  refuse("acceleration", "anderson", "Anderson's mixing");
+  refuse("line_search", "auto", "a line search");
+  refuse("relaxation", "auto", "the automatic relaxation (give ω as a number)");
+  refuse("geometry", "updated",
+         "hencky's finite-strain kinematics (the report's own iteration under geometry: updated "
+         "is not implemented)");
+  s.acceleration = SolverSpec::Acceleration::none;
+  s.line_search = false;
+  s.extrapolate = false;
+  if (s.relaxation == 0) s.relaxation = 1;
 }
 
 /// correction: γ, a number or an expression of t (one value per step, at its end time), >= 0
@@ -184,6 +216,9 @@ SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {
                                   : SolverSpec::Linear::petsc;
   }
   if (auto x = m.get("petsc_options")) read_petsc_options(r, *x, s);
+  if (auto x = m.get("formulation"))
+    s.report = r.choice(*x, formulations, "formulation") == "report";
+  if (s.report) check_report(r, m, s);
   return s;
 }
 
@@ -246,6 +281,8 @@ OutputSpec read_output(const Reader& r, const std::optional<Val>& v, const fs::p
   }
   if (auto x = m.get("checkpoint_keep")) o.checkpoint_keep = r.integer_at_least(*x, 0);
   if (auto x = m.get("probes")) o.probes = read_probes(r, *x);
+  if (auto x = m.get("iterations"))
+    o.iterations = r.choice(*x, {"true", "false"}, "iterations setting") == "true";
   // Regions with a displacement or a heat temperature condition, and with any heat condition,
   // in order.
   std::vector<std::string> fixed, heated;

@@ -58,6 +58,10 @@ class PieceWriter final : public StepObserver {
     step_values(model_, state, fields);  // this rank's share, for root
     if (report.write_fields) fields_.write(report, state, fields);
   }
+  bool wants_iterates() const override { return model_.spec().output.iterations; }
+  void iterate_done(const IterateReport&, const State& trial) override {
+    step_values(model_, trial, recover_fields(model_, trial, false));  // for root's row
+  }
 
  private:
   const Model& model_;

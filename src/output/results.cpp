@@ -411,6 +411,29 @@ std::vector<std::string> ResultWriter::report_lines() const {
   return lines;
 }
 
+void ResultWriter::iterate_done(const IterateReport& r, const State& trial) {
+  const StepValues values = step_values(model_, trial, recover_fields(model_, trial, false));
+  if (!iterations_.is_open()) {
+    iterations_.open(work_dir_ / "iterations.csv");
+    iterations_ << "attempt,time,iteration,residual,delta_sigma,delta_epsilon,plastic_points";
+    for (const auto& p : model_.probes()) {
+      for (auto c : paraview_names) iterations_ << ',' << p.spec->name << ".stress." << c;
+      iterations_ << ',' << p.spec->name << ".equivalent_elastoplastic_strain";
+    }
+    iterations_ << '\n';
+  }
+  iterations_ << fmt::format("{},{:.17g},{},{:.17g},{:.17g},{:.17g},{}", r.attempt, r.time,
+                             r.iteration, r.residual, r.delta_sigma, r.delta_eps,
+                             r.plastic_points);
+  for (const ProbeValues& v : values.probes) {
+    for (int c = 0; c < 6; ++c) iterations_ << fmt::format(",{:.17g}", v.stress[paraview_order[c]]);
+    iterations_ << fmt::format(",{:.17g}", v.eps_ep);
+  }
+  iterations_ << '\n';
+  // A row that cannot be written (a full disk) does not stop the step: the step's own outputs
+  // then fail and stop the run (write_outputs).
+}
+
 void ResultWriter::step_done(const StepReport& report, const State& state,
                              const RecoveredFields& fields) {
   // The fields' writing is collective on several ranks: a history that cannot be written must

@@ -41,6 +41,10 @@ class ResultWriter final : public StepObserver {
 
   void step_done(const StepReport& report, const State& state,
                  const RecoveredFields& fields) override;
+  /// output.iterations: a row of iterations.csv per iterate (its measures, and the probes'
+  /// stress and ε̃^{e+p} at the iterate, recovered as for a step).
+  bool wants_iterates() const override { return model_.spec().output.iterations; }
+  void iterate_done(const IterateReport& report, const State& trial) override;
 
   /// A restart (`--restart`): takes over from the output directory `old` what its run wrote up
   /// to step `steps` (its history rows, its fields' files and their series entries, and its
@@ -81,6 +85,7 @@ class ResultWriter final : public StepObserver {
   double balance_time_ = -1;  ///< of the last converged step (-1: none yet)
   StepValues::Balance balance_;
   std::ofstream history_;
+  std::ofstream iterations_;  ///< iterations.csv (output.iterations)
   std::unique_ptr<PvdWriter> pvd_;
   std::unique_ptr<FieldsWriter> fields_;
   nlohmann::json final_values_;

@@ -36,8 +36,7 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
                          HeatSolver* heat)
     : m_(m),
       log_(log),
-      scheme_(make_scheme(m.spec().solver.scheme, m.spec().solver.curve_form,
-                          m.spec().solver.relaxation)),
+      scheme_(make_scheme(m.spec().solver)),
       policy_(choose_policy(m, *scheme_)),
       // On more than one rank each rank works on its own cells and the nodal vectors are
       // summed over the ranks.
@@ -83,13 +82,16 @@ State Equilibrium::initial_state() const {
 
 bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out) {
   out = StepOutcome{};
+  ++attempts_;
   iterate_.begin(c, t1, trial);
   // Under `updated` the prescribed displacements of the step first spread into the body; the
   // forces of that motion on the body held as it was are a force scale of the step (what its
   // first iterate's forces were without the spreading; a rigid motion has no other).
   const double spread =
       m_.spec().solver.updated_geometry ? matrix_.spread_prescribed(c, trial) : 0.0;
-  Evaluation ev = iterate_.evaluate(c, trial, false);
+  // The report's first solve is made of the scheme's initial parameters (evaluate_initial).
+  Evaluation ev =
+      iterate_.evaluate(c, trial, false, policy_.report ? PointMode::initial : PointMode::law);
   const double f_step = std::max(iterate_.step_force(c, trial, ev), spread);
   const double f_norm = std::max(f_step, IterateEvaluator::history_force(c));
   bool extrapolated = false;
@@ -111,7 +113,7 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
   // form's range is no failure of the step either: the elastic start replaces it.
   if (!extrapolated && (ev.points.plastic_points > 0 || ev.points.undefined_cell >= 0) &&
       policy_.elastic_start)
-    ev = iterate_.evaluate(c, trial, false, true);
+    ev = iterate_.evaluate(c, trial, false, PointMode::elastic);
   // The start, for a step that begins again with the contact set of its first iterate (below).
   const bool contact = iterate_.contact().active();
   const std::vector<double> u_start = contact ? trial.u : std::vector<double>();
@@ -128,10 +130,11 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       std::optional<Evaluation> searched = search_.take();
       ev = searched ? std::move(*searched) : iterate_.evaluate(c, trial, true);
     }
-    if (out.iterations == 1 && contact && iterate_.contact().progress().released > 0 &&
-        ev.points.plastic_points > 0)
+    if (out.iterations == 1 && contact && !policy_.report &&
+        iterate_.contact().progress().released > 0 && ev.points.plastic_points > 0)
       ev = begin_again(c, trial, u_start);
     const double scale = measure(trial, ev, f_norm, out);
+    if (policy_.report) require_strain_form(ev);  // the report's map has no iterate past it
     const bool holds_broken = held_.observe(ev.points);
     const bool done = converged(out);
     if (done && !holds_broken && !released_pulling(c, trial, ev, scale, out)) {
@@ -178,6 +181,10 @@ double Equilibrium::measure(const State& trial, const Evaluation& ev, double f_n
     out.residual = d[0], out.delta_sigma = d[1], out.delta_eps = d[2];
   }
   report(out);
+  if (iterate_observer_)
+    iterate_observer_->iterate_done({attempts_, trial.time, out.iterations, out.residual,
+                                     out.delta_sigma, out.delta_eps, out.plastic_points},
+                                    trial);
   if (!std::isfinite(out.residual)) throw_not_finite(m_, trial, out.iterations, out.residual);
   const double tol = m_.spec().solver.tolerance;
   double worst = std::max(out.residual, out.correction) / tol;
@@ -196,7 +203,7 @@ double Equilibrium::measure(const State& trial, const Evaluation& ev, double f_n
 /// its force scale is round-off: released, the residual it leaves meets the tolerance.
 bool Equilibrium::released_pulling(const State& c, State& trial, Evaluation& ev, double scale,
                                    StepOutcome& out) {
-  if (!iterate_.contact().active()) return false;
+  if (!iterate_.contact().active() || policy_.report) return false;
   double limit = m_.spec().solver.tolerance * scale;
   if (m_.layout().shared()) par::broadcast(std::span<double>(&limit, 1));  // every rank alike
   const int n = iterate_.contact().release_pulling(c, trial, limit);
@@ -261,7 +268,8 @@ Evaluation Equilibrium::begin_again(const State& c, State& trial,
   // its flowing points found themselves unloading at iteration 2, the point law switched to 3G
   // while the matrix kept the loading slope, and the step diverged through five cut-backs.)
   first_iteration_ = 1;
-  return iterate_.evaluate(c, trial, false, policy_.elastic_start);
+  return iterate_.evaluate(c, trial, false,
+                           policy_.elastic_start ? PointMode::elastic : PointMode::law);
 }
 
 /// An iterate whose stress left the strain form's range at some point has no answer of the

@@ -49,6 +49,8 @@ class Equilibrium {
   bool step(const State& c, double t1, State& trial, StepOutcome& out);
 
   int factorizations() const { return matrix_.factorizations(); }
+  /// Tells `o` of every iterate (StepObserver::iterate_done); nullptr: nobody.
+  void observe_iterates(StepObserver* o) { iterate_observer_ = o; }
   /// What the next step takes from the steps before it besides the State.
   EquilibriumMemory memory() const;
   /// Continues after a restart from `c` with the memory `mem` of the run that wrote it: the
@@ -90,6 +92,8 @@ class Equilibrium {
   /// The iteration the step's points started from: 0, or 1 when it began again (begin_again).
   int first_iteration_ = 0;
   double model_size_ = 0;  ///< diagonal of the mesh's bounding box (plastic runs)
+  StepObserver* iterate_observer_ = nullptr;
+  int attempts_ = 0;  ///< steps attempted (IterateReport::attempt)
 };
 
 }  // namespace hencky

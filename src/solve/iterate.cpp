@@ -131,11 +131,11 @@ double IterateEvaluator::correction(double t1) const {
 }
 
 Evaluation IterateEvaluator::evaluate(const State& c, State& trial, bool update_contact,
-                                      bool elastic) {
+                                      PointMode mode) {
   Evaluation ev;
   {
     ScopedTimer timer(timings_.material);
-    ev.points = points_.update(c, trial, x_, elastic);
+    ev.points = points_.update(c, trial, x_, mode);
   }
   if (const Model::CellFacts e = m_.cell_facts(ev.points.inverted_cell); e.tag >= 0)
     throw SolveError(fmt::format(

@@ -31,8 +31,10 @@ class IterateEvaluator {
   /// contact's set-up, and the equilibrium target (2.29)-(2.30).
   void begin(const State& c, double t1, State& trial);
   /// The iterate trial.u: points and internal forces, then (with `update_contact`, after a
-  /// solve) the contact's steps 3-4, then the residual. `elastic`: the elastic start.
-  Evaluation evaluate(const State& c, State& trial, bool update_contact, bool elastic = false);
+  /// solve) the contact's steps 3-4, then the residual. `mode`: how the points of plastic
+  /// materials are evaluated (PointPass::update).
+  Evaluation evaluate(const State& c, State& trial, bool update_contact,
+                      PointMode mode = PointMode::law);
   /// The contact states updated at the evaluated iterate (with contact), then its residual
   /// (what evaluate does after the points with `update_contact`).
   void update_contact(const State& c, State& trial, Evaluation& ev);

@@ -1,6 +1,7 @@
 #include "solve/iteration_policy.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "solve/contact_step.hpp"
 
@@ -75,6 +76,13 @@ IterationPolicy choose_policy(const Model& m, const Scheme& scheme) {
   p.line_search =
       p.plastic && spec.line_search && scheme.matrix_policy() == MatrixPolicy::per_iteration;
   p.held_set = p.plastic && strains;
+  if (scheme.has_initial_evaluation()) {
+    // The report's iteration (the reader refused the settings that would add to it).
+    p.report = true;
+    p.mix = p.elastic_start = p.line_search = p.extrapolate = p.held_set = false;
+    p.limit_given = true;  // no extension of the limit either
+    p.max_flips = std::numeric_limits<int>::max();
+  }
   return p;
 }
 

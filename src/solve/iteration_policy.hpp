@@ -23,6 +23,11 @@ struct IterationPolicy {
   bool extrapolate = false;   ///< newton's predictor (solver.predictor)
   bool held_set = false;      ///< the initial-strain schemes may hold their plastic set
   int max_flips = 6;          ///< contact flips a node may make in a step (ContactStep)
+  /// formulation: report, none of the above: each step starts from the scheme's initial
+  /// parameters (Scheme::evaluate_initial), the contact is (3.1)-(3.6) alone (no flip limit, no
+  /// release of pulling nodes, no new start with the first iterate's contact set), and a step
+  /// converges on the residual, Δ^σ and Δ^ε.
+  bool report = false;
 };
 
 /// solver.max_iterations: auto, by the scheme's matrix policy.

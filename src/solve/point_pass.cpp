@@ -150,10 +150,17 @@ void PointPass::begin_step(const State& c, const State& trial) {
   for (int e = 0; e < n_cells; ++e) {
     const auto& mat = m_.material_of(e);
     if (!mat.plastic() || !mine(e)) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p)
-      point_step_[p] = scheme_.begin_point_step(
-          trial.constants[p], *mat.law, *mat.hardening, trial.temperature[p], mat.elastic_unloading,
-          start_stress(c, p), c.eps_p_eq[p], c.flowing[p] != 0, point_iter_[p]);
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
+      PointAtT at;
+      at.sigma = start_stress(c, p);
+      at.eps_p = c.eps_p_eq[p];
+      at.eps_ep = c.eps_ep[p];
+      at.eps_ep_max = c.eps_ep_max[p];
+      at.flowing = c.flowing[p] != 0;
+      point_step_[p] = scheme_.begin_point_step(trial.constants[p], *mat.law, *mat.hardening,
+                                                trial.temperature[p], mat.elastic_unloading, at,
+                                                point_iter_[p]);
+    }
   }
 }
 
@@ -168,7 +175,8 @@ void PointPass::begin_step(const State& c, const State& trial) {
 /// strain and the law's tensors turn with R. The step's flow direction Z of τ(t) stays valid:
 /// the law works in the frame of x.
 PointPassResult PointPass::update(const State& c, State& trial, const std::vector<Vec3>& config,
-                                  bool elastic) {
+                                  PointMode mode) {
+  const bool elastic = mode == PointMode::elastic;
   const auto& mesh = m_.mesh();
   const bool updated = m_.spec().solver.updated_geometry;
   trial.f_int.assign(m_.dofs().n_dofs(), 0.0);
@@ -225,8 +233,12 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
             const Voigt d_mech = d_eps - thermal_strain_increment(
                                              c.constants[p], c.temperature[p], trial.constants[p],
                                              trial.temperature[p], sigma0);
-            PointUpdate u = scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
-                                             sigma0, d_mech, law_state(c, trial, p));
+            PointUpdate u =
+                mode == PointMode::initial
+                    ? scheme_.evaluate_initial(trial.constants[p], point_step_[p], point_iter_[p],
+                                               sigma0, d_mech)
+                    : scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p], sigma0,
+                                       d_mech, law_state(c, trial, p));
             if (u.undefined) {
               int none = -1;
               undefined_cell.compare_exchange_strong(none, e);

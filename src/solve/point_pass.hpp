@@ -24,6 +24,14 @@ struct PointPassResult {
   int holds_broken = 0;  ///< held points whose iterate lies on the other side of the yield stress
 };
 
+/// How a point pass evaluates the points of plastic materials.
+enum class PointMode {
+  law,      ///< the scheme's point law: an iterate
+  elastic,  ///< the elastic law and matrix, the scheme's memory set back (hencky's elastic start)
+  initial,  ///< the scheme's initial parameters, its memory unchanged (the report's first solve,
+            ///< Scheme::evaluate_initial)
+};
+
 class PointPass {
  public:
   /// `only`: this rank's cells (nullptr: every cell).
@@ -52,12 +60,13 @@ class PointPass {
   /// Stresses, plastic state and internal forces of the iterate trial.u (elastic points:
   /// σ = σ(t) + D(t+Δt)(Δε − Δε^th), (1.9), (1.12); plastic ones: the scheme's point law),
   /// the scheme's matrices for the next solve, and the measures. Collective.
-  /// `elastic`: every point of a plastic material too takes the elastic law, with the elastic
-  /// matrix, and the scheme's memory is set back to the step's start (the elastic start).
+  /// `mode`: the point law (an iterate), or at a step's start the elastic law with the elastic
+  /// matrix and the scheme's memory set back (the elastic start), or the scheme's initial
+  /// parameters (the report's first solve).
   /// `x`: the nodes' coordinates the step is written on (the mesh's, or X + u(t) under
   /// `geometry: updated`, where the step is the updated Lagrangian one of CellDeformation).
   PointPassResult update(const State& c, State& trial, const std::vector<Vec3>& x,
-                         bool elastic = false);
+                         PointMode mode = PointMode::law);
   /// The internal forces ∫Bᵀσ of the stresses of s over the configuration x, into f (whole on
   /// every rank). Collective.
   void internal_forces(const State& s, const std::vector<Vec3>& x, std::vector<double>& f) const;

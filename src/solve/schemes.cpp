@@ -12,8 +12,10 @@ namespace hencky {
 
 PointStep Scheme::begin_point_step(const ElasticConstants& k1, const PointLaw& law,
                                    const Hardening& h, double T1, bool elastic_unloading,
-                                   const Voigt& sigma0, double eps_p0, bool flowing,
-                                   PointIteration& it) const {
+                                   const PointAtT& at, PointIteration& it) const {
+  const Voigt& sigma0 = at.sigma;
+  const double eps_p0 = at.eps_p;
+  const bool flowing = at.flowing;
   PointStep ps;
   ps.law = &law;
   const double three_g = 3 * k1.shear_modulus();
@@ -39,6 +41,11 @@ PointStep Scheme::begin_point_step(const ElasticConstants& k1, const PointLaw& l
   }
   it = start_iteration(ps);
   return ps;
+}
+
+PointUpdate Scheme::evaluate_initial(const ElasticConstants&, const PointStep&,
+                                     const PointIteration&, const Voigt&, const Voigt&) const {
+  HENCKY_VERIFY(false, "evaluate_initial is the report's schemes' only");
 }
 
 PointIteration Scheme::start_iteration(const PointStep& ps) const {
@@ -219,6 +226,11 @@ std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omeg
       return scheme_law::make_initial_stress(kind == SchemeKind::initial_stress_stiffness);
   }
   HENCKY_VERIFY(false, "unknown scheme");
+}
+
+std::unique_ptr<Scheme> make_scheme(const SolverSpec& s) {
+  return s.report ? make_report_scheme(s.scheme, s.curve_form, s.relaxation)
+                  : make_scheme(s.scheme, s.curve_form, s.relaxation);
 }
 
 }  // namespace hencky

@@ -53,6 +53,15 @@ struct LawState {
   std::span<double> now;
 };
 
+/// A point's state at the start of a step, t, as the schemes start from it.
+struct PointAtT {
+  Voigt sigma = Voigt::Zero();  ///< σ(t) (τ(t) under `updated`)
+  double eps_p = 0;             ///< ε̃^p(t)
+  double eps_ep = 0;            ///< ε̃^{e+p}(t): the scalar the report's schemes advance
+  double eps_ep_max = 0;        ///< the largest ε̃^{e+p} reached (the report's elastic unloading)
+  bool flowing = false;         ///< the point flowed plastically in the step that ended at t
+};
+
 /// What a point keeps fixed during one step.
 struct PointStep {
   const PointLaw* law = nullptr;  ///< the material's point law
@@ -60,6 +69,7 @@ struct PointStep {
   Voigt z = Voigt::Zero();  ///< Mσ(t)/σ̃(t) when flowing at t, else zero (from the trial)
   bool flowing = false;     ///< the point flowed plastically in the step that ended at t
   double tan0 = 0;          ///< tan β*_0: the curve's slope at the start of the step
+  double eps_ep = 0;        ///< ε̃^{e+p}(t) (formulation: report; hencky's derives it from σ(t))
 };
 
 /// The scheme's memory from one iteration to the next (discarded with the step).
@@ -69,6 +79,7 @@ struct PointIteration {
   /// σ(t) + D̃(x − Δε^0) (D̃ = D with the elastic matrix). A tensor, since the trial's Z turns
   /// from one iteration to the next (with Z fixed it is Z·λ0 of (2.35)).
   Voigt e0 = Voigt::Zero();
+  double lambda0 = 0;   ///< formulation: report: the initial strain Δε^0_k = Z·λ0 of (2.37)
   double x_prev = 0;    ///< Δε̃^{e+p}_{k−1}
   double ds_prev = 0;   ///< Δσ̃_{k−1}
   bool plastic_prev = false;
@@ -126,9 +137,19 @@ class Scheme {
   virtual bool uses_strain_form() const { return false; }
 
   /// Sets up a point for a step: direction, start slope, the scheme's initial parameters.
+  virtual PointStep begin_point_step(const ElasticConstants& k1, const PointLaw& law,
+                                     const Hardening& h, double T1, bool elastic_unloading,
+                                     const PointAtT& at, PointIteration& it) const;
+  /// The same from σ(t), ε̃^p(t) and whether the point flowed (hencky's schemes need no more).
   PointStep begin_point_step(const ElasticConstants& k1, const PointLaw& law, const Hardening& h,
                              double T1, bool elastic_unloading, const Voigt& sigma0, double eps_p0,
-                             bool flowing, PointIteration& it) const;
+                             bool flowing, PointIteration& it) const {
+    PointAtT at;
+    at.sigma = sigma0;
+    at.eps_p = eps_p0;
+    at.flowing = flowing;
+    return begin_point_step(k1, law, h, T1, elastic_unloading, at, it);
+  }
 
   /// The scheme's memory before the first iterate of the step (also after an elastic start:
   /// that solve took nothing from the point law).
@@ -143,6 +164,17 @@ class Scheme {
   virtual PointUpdate evaluate(const ElasticConstants& k1, const PointStep& ps,
                                const PointIteration& it, const Voigt& sigma0, const Voigt& x,
                                const LawState& law) const = 0;
+  /// formulation: report: the iterate x with the scheme's initial parameters of the step
+  /// (β*_0, Δε^0_0 = 0, Δσ^0_0 = 0), σ = σ(t) + D̃(β*_0)x, and its matrix, the memory `it`
+  /// unchanged: what the report's first solve of a step is made of (its first right-hand side
+  /// carries the prescribed displacements' and thermal strains' part of x through D̃(β*_0)).
+  /// Only the report's schemes have it (has_initial_evaluation).
+  virtual PointUpdate evaluate_initial(const ElasticConstants& k1, const PointStep& ps,
+                                       const PointIteration& it, const Voigt& sigma0,
+                                       const Voigt& x) const;
+  /// The scheme is one of the report's as written (formulation: report): its step starts from
+  /// evaluate_initial and it has none of hencky's additions.
+  virtual bool has_initial_evaluation() const { return false; }
 
  protected:
   /// tan β of iteration 0 at a point whose start slope is tan0.
@@ -161,5 +193,10 @@ inline constexpr const char* schemes_without_strain_form =
 /// The scheme of the case: `form` for variable-stiffness, `omega` the relaxation of the
 /// initial-strain schemes.
 std::unique_ptr<Scheme> make_scheme(SchemeKind kind, CurveForm form, double omega);
+/// The scheme of the solver section: hencky's (make_scheme above) or, under `formulation:
+/// report`, the report's as written (solve/report_schemes.cpp).
+std::unique_ptr<Scheme> make_scheme(const SolverSpec& s);
+/// The report's schemes as written (newton is none of them: refused by the case reader).
+std::unique_ptr<Scheme> make_report_scheme(SchemeKind kind, CurveForm form, double omega);
 
 }  // namespace hencky

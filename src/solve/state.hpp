@@ -89,9 +89,26 @@ struct Timings {
 
 struct RecoveredFields;  // solve/recovery.hpp
 
+/// The measures of one iterate of a step (output.iterations).
+struct IterateReport {
+  int attempt = 0;  ///< 1-based count of the steps attempted (cut-backs and failures included)
+  double time = 0;  ///< the step's end time
+  int iteration = 0;
+  double residual = 0, delta_sigma = 0, delta_eps = 0;
+  int plastic_points = 0;
+};
+
 class StepObserver {
  public:
   virtual ~StepObserver() = default;
+  /// Whether iterate_done is wanted (output.iterations).
+  virtual bool wants_iterates() const { return false; }
+  /// Called on every rank after each iterate of a step is evaluated and measured, with the
+  /// iterate's state.
+  virtual void iterate_done(const IterateReport& report, const State& trial) {
+    (void)report;
+    (void)trial;
+  }
   /// Called on every rank after every converged step with the committed state (this rank's
   /// integration points) and the point values recovered to the nodes, and to the cells when
   /// report.write_fields (recover_fields, solve/recovery.hpp, says what each rank gets).

@@ -322,6 +322,7 @@ AnalysisResult run_analysis(const Model& model, LinearSystem& system, Log& log, 
     heat = own_heat.get();
   }
   Equilibrium eq(model, system, log, timings, heat);
+  if (observer.wants_iterates()) eq.observe_iterates(&observer);
   return StepLoop(model, eq, heat, log, timings, observer, options).run();
 }
 

@@ -298,13 +298,20 @@ struct SolverSpec {
   enum class Linear { automatic, direct, iterative, petsc };
   SchemeKind scheme = SchemeKind::newton;
   CurveForm curve_form = CurveForm::stress;  ///< variable-stiffness only
+  /// `formulation: hencky | report`. `hencky` (the default): the schemes with hencky's
+  /// additions (the trial's flow direction, the elastic start, Anderson's mixing, the line
+  /// search, the held plastic set, ...; docs/schemes.md). `report`: the five schemes iterate
+  /// as the report writes them (solve/report_schemes.cpp), and the settings that would add
+  /// one of hencky's strategies are refused.
+  bool report = false;
   StepTimes times;                    ///< end times of the steps
   /// Iteration limit per step: a number >= 1, or 0 for `auto` (the default): 50 for newton and
   /// variable-stiffness, 200 for the fixed-matrix schemes (auto_max_iterations, solve/iteration_policy.cpp).
   int max_iterations = 0;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
   /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
-  /// at each point the curve's slope at the iterate, ω = tan β / 3G (docs/schemes.md).
+  /// at each point the curve's slope at the iterate, ω = tan β / 3G (docs/schemes.md). Under
+  /// `formulation: report` a number, 1 by default (the report's update, unrelaxed).
   double relaxation = 0;
   /// γ of the error correction (2.30), chosen per step as the report says: a number, or an
   /// expression of t evaluated at each step's end time; >= 0, and 0 turns the correction off.
@@ -317,8 +324,9 @@ struct SolverSpec {
   /// displacement increment scaled to this step's length, when the new load does positive work
   /// on it; otherwise (and for the other schemes) from the converged state.
   bool extrapolate = true;
-  /// `acceleration`: Anderson mixing of the fixed-matrix iterations, depth 5
-  /// (src/solve/anderson.hpp). `auto` (the default) mixes wherever the scheme allows it
+  /// `acceleration`: Anderson mixing of the fixed-matrix iterations, depth 8 for
+  /// the initial strains and 5 for the initial stresses (src/solve/anderson.hpp,
+  /// choose_policy). `auto` (the default) mixes wherever the scheme allows it
   /// (Scheme::allows_acceleration), `anderson` asks for it (an input error where the scheme does
   /// not allow it), `none` is the report's plain iteration.
   enum class Acceleration { automatic, none, anderson };
@@ -358,6 +366,9 @@ struct OutputSpec {
   /// output.checkpoint resolved: every this many converged steps; 0: none.
   int checkpoint_every() const { return checkpoint < 0 ? every : checkpoint; }
   std::vector<ProbeSpec> probes;
+  /// `iterations: true`: iterations.csv, one row per iterate of every step attempted (its
+  /// measures, and the probes' stress and ε̃^{e+p} at the iterate).
+  bool iterations = false;
   std::vector<std::string> reactions;  ///< regions that have a displacement (or a heat
                                        ///< temperature) condition
   std::vector<SourceLocation> reaction_where;
