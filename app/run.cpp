@@ -259,6 +259,7 @@ void gather_figures(const Session& s, int status, RunFigures& f) {
   if (s.checkpoints) f.checkpoints = s.checkpoints->written();
   f.result = s.result;
   f.scheme = scheme_name(l.spec->solver.scheme);
+  f.formulation = l.spec->solver.report ? "report" : "hencky";
   f.dofs = model.global_free();
   f.nodes = model.global_nodes();
   f.elements = model.global_cells();

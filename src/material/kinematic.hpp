@@ -33,6 +33,9 @@ class KinematicLaw final : public PointLaw {
   ReturnMapping update(const ElasticConstants& k, const StepCurve& curve, const Voigt& sigma0,
                        const Voigt& d_mech, std::span<const double> state0,
                        std::span<double> state1) const override;
+  Voigt relative_stress(const Voigt& sigma, std::span<const double> state) const override {
+    return sigma - Eigen::Map<const Voigt>(state.data());
+  }
   /// H_k at temperature T.
   double modulus(double T) const;
 

@@ -54,6 +54,12 @@ class PointLaw {
   virtual ReturnMapping update(const ElasticConstants& k, const StepCurve& curve,
                                const Voigt& sigma0, const Voigt& d_mech,
                                std::span<const double> state0, std::span<double> state1) const = 0;
+  /// The stress whose von Mises value the yield stress bounds: σ itself, or σ − α of a law with
+  /// a back stress α in its state (the admissibility check, PointPass::largest_excess).
+  virtual Voigt relative_stress(const Voigt& sigma, std::span<const double> state) const {
+    (void)state;
+    return sigma;
+  }
 };
 
 /// A law the case can ask for: its name (for messages), the keys that select it, and how it is

@@ -72,7 +72,7 @@ class ResultWriter final : public StepObserver {
   void write_law_values(const std::vector<ProbeValues>& probe_row, nlohmann::json& probes);
   void write_history(const StepReport& report, const State& state, const StepValues& values);
   /// Keeps the run's largest values and the last balance (report()).
-  void remember(double time, const StepValues& values);
+  void remember(double time, const StepValues& values, const YieldExcess& excess);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;
@@ -81,6 +81,9 @@ class ResultWriter final : public StepObserver {
     double time = 0;
   };
   Peak peak_von_mises_, peak_displacement_, peak_eps_p_eq_;
+  /// The largest yield excess of the converged steps (value < 0 while none exceeds), and
+  /// whether the model has plasticity (-inf: none).
+  Peak peak_yield_excess_;
   std::vector<std::pair<double, double>> peak_contact_;  ///< each contact's largest force, when
   double balance_time_ = -1;  ///< of the last converged step (-1: none yet)
   StepValues::Balance balance_;

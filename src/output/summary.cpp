@@ -49,6 +49,7 @@ nlohmann::json summary_json(const RunFigures& r, const nlohmann::json& final_val
   summary["iterations"] = r.result.iterations;
   summary["factorizations"] = r.result.factorizations;
   summary["scheme"] = r.scheme;
+  summary["formulation"] = r.formulation;
   summary["dofs"] = r.dofs;
   summary["nodes"] = r.nodes;
   summary["elements"] = r.elements;

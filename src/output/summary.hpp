@@ -28,6 +28,7 @@ struct RunFigures {
   std::optional<int> checkpoints;  ///< checkpoints written, when the run writes any
   AnalysisResult result;           ///< steps, iterations, factorizations, failure
   std::string scheme;
+  std::string formulation;  ///< solver.formulation: "hencky" or "report"
   long long dofs = 0, nodes = 0, elements = 0;  ///< of the whole model
   int integration_points = 0;
   int threads = 0, ranks = 0;

@@ -31,6 +31,10 @@ struct StepOutcome {
   /// geometry: updated: the last correction of the displacements relative to the step's
   /// increment, ‖δu‖/‖Δu‖ (0 otherwise, and before the first solve), and the one before it.
   double correction = 0, previous_correction = 0;
+  /// The last iterate's largest σ̃/σ̃_y − 1 (its place once the step is accepted), and the
+  /// points above σ̃_y·(1 + YieldExcess::slack).
+  YieldExcess yield_excess;
+  int points_above = 0;
 };
 
 class Equilibrium {
@@ -73,6 +77,7 @@ class Equilibrium {
   Evaluation begin_again(const State& c, State& trial, const std::vector<double>& u_start);
   void report(const StepOutcome& out) const;
   bool converged(const StepOutcome& out) const;
+  bool admissible(const StepOutcome& out) const;
   void accept(const State& c, State& trial, double scale, StepOutcome& out);
   bool released_pulling(const State& c, State& trial, Evaluation& ev, double scale,
                         StepOutcome& out);

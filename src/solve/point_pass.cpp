@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <atomic>
 #include <climits>
 #include <cmath>
+#include <cstring>
 
 #include "fem/hencky_strain.hpp"
 #include "fem/reference_element.hpp"
@@ -25,6 +27,7 @@ PointPass::PointPass(const Model& m, const std::vector<char>* only, const Scheme
   tangent_.assign(n, Tangent{});
   defect_sigma_.assign(n, 0.0);
   defect_eps_.assign(n, 0.0);
+  excess_.assign(n, -INFINITY);
 }
 
 /// The volume weight dv = det J·w of every point of this rank's cells on the configuration x.
@@ -112,6 +115,11 @@ void PointPass::keep_plastic_state(const State& c, State& trial, int p) {
   trial.flowing[p] = 0;
   defect_sigma_[p] = defect_eps_[p] = 0;
   point_iter_[p] = scheme_.start_iteration(point_step_[p]);
+  // The elastic iterate counts as the step's first: the `-stiffness` schemes decide their
+  // start slope at the next iterate only (start_slope_on_unloading), while the step loop may
+  // still factorize their matrix again (StepMatrix::needs_elements). Counted from 0, a point
+  // could switch to 3G one iterate later, with the matrix kept at its loading slope.
+  point_iter_[p].k = 1;
 }
 
 /// The plastic state of point p at the iterate from the scheme's update u (its stress, τ under
@@ -125,6 +133,23 @@ void PointPass::take_plastic_update(const State& c, State& trial, int p, const P
   trial.flowing[p] = u.plastic;
   defect_sigma_[p] = u.defect_sigma;
   defect_eps_[p] = u.defect_eps;
+}
+
+/// The scheme's update of plastic point p for the strain increment d_eps of the iterate (the
+/// point law, or the scheme's initial parameters): its memory and its plastic state kept.
+PointUpdate PointPass::scheme_update(const State& c, State& trial, int p, const Voigt& sigma0,
+                                     const Voigt& d_eps, PointMode mode) {
+  const Voigt d_mech =
+      d_eps - thermal_strain_increment(c.constants[p], c.temperature[p], trial.constants[p],
+                                       trial.temperature[p], sigma0);
+  PointUpdate u = mode == PointMode::initial
+                      ? scheme_.evaluate_initial(trial.constants[p], point_step_[p],
+                                                 point_iter_[p], sigma0, d_mech)
+                      : scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
+                                         sigma0, d_mech, law_state(c, trial, p));
+  point_iter_[p] = u.next;
+  take_plastic_update(c, trial, p, u);
+  return u;
 }
 
 /// Under `geometry: updated` the law's tensors turn with the material, as the plastic strain
@@ -189,6 +214,11 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
     tangent_[p] = t;
     changed.store(true, std::memory_order_relaxed);
   };
+  // The first cell to raise a flag names it.
+  auto flag = [](std::atomic<int>& cell, int e) {
+    int none = -1;
+    cell.compare_exchange_strong(none, e);
+  };
   m_.assembler().vector(
       [&](int e, CellBuffers& b) {
         const auto nodes = mesh.cells.nodes(e);
@@ -209,11 +239,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
         // A cell turned inside out by the iterate has no strain: the step fails
         // (IterateEvaluator::evaluate) and is cut back. The undeformed mesh was checked when the
         // model was made, and each step's start is a converged iterate.
-        if (updated && !(def.compute(kin, du) > 0)) {
-          int none = -1;
-          inverted_cell.compare_exchange_strong(none, e);
-          return;
-        }
+        if (updated && !(def.compute(kin, du) > 0)) return flag(inverted_cell, e);
         HenckyStep hencky;
         for (int q = 0; q < kin.points; ++q) {
           const int p = m_.point_offset(e) + q;
@@ -230,27 +256,12 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
               set_tangent(p, Tangent{});  // the elastic matrix
             }
           } else {
-            const Voigt d_mech = d_eps - thermal_strain_increment(
-                                             c.constants[p], c.temperature[p], trial.constants[p],
-                                             trial.temperature[p], sigma0);
-            PointUpdate u =
-                mode == PointMode::initial
-                    ? scheme_.evaluate_initial(trial.constants[p], point_step_[p], point_iter_[p],
-                                               sigma0, d_mech)
-                    : scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p], sigma0,
-                                       d_mech, law_state(c, trial, p));
-            if (u.undefined) {
-              int none = -1;
-              undefined_cell.compare_exchange_strong(none, e);
-            }
-            point_iter_[p] = u.next;
-            if (u.negative_secant) {
-              int none = -1;
-              negative_secant_cell.compare_exchange_strong(none, e);
-            }
-            take_plastic_update(c, trial, p, u);
+            const PointUpdate u = scheme_update(c, trial, p, sigma0, d_eps, mode);
+            if (u.undefined) flag(undefined_cell, e);
+            if (u.negative_secant) flag(negative_secant_cell, e);
             set_tangent(p, u.tangent);
           }
+          if (plastic) measure_excess(mat, c, trial, p, trial.stress[p]);
           if (updated) {
             const Voigt S = hencky.second_piola(trial.stress[p], start_volume_ratio_[p]);
             def.add_force(kin, q, S, kin.dv[q], b.fe);
@@ -298,14 +309,6 @@ void PointPass::internal_forces(const State& s, const std::vector<Vec3>& config,
   m_.layout().sum(f, 3);
 }
 
-template <class F>
-void PointPass::for_plastic_points(F&& f) const {
-  for (int e = 0; e < m_.mesh().cells.size(); ++e) {
-    if (!m_.material_of(e).plastic() || !mine(e)) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) f(p);
-  }
-}
-
 void PointPass::initial_strains(std::vector<double>& e0) const {
   e0.clear();
   for_plastic_points([&](int p) {
@@ -351,55 +354,6 @@ void PointPass::move_broken_holds() {
 
 void PointPass::free_plastic_set() {
   for_plastic_points([&](int p) { point_iter_[p].held = 0, point_iter_[p].breaks_hold = false; });
-}
-
-/// Δ^σ and Δ^ε of the report, made global: the volume-weighted root mean square of the
-/// points' numerators over that of σ̃ (resp. ε̃^{e+p}) over the plastic materials.
-void PointPass::measures(const State& trial, PointPassResult& r) const {
-  double ns = 0, ds = 0, ne = 0, de = 0;
-  int n_plastic = 0, n_broken = 0;
-  for_plastic_points([&](int p) {
-    const double w = point_volume_[p], q = von_mises(trial.stress[p]);
-    ns += w * defect_sigma_[p] * defect_sigma_[p];
-    ds += w * q * q;
-    ne += w * defect_eps_[p] * defect_eps_[p];
-    de += w * trial.eps_ep[p] * trial.eps_ep[p];
-    n_plastic += trial.flowing[p];
-    n_broken += point_iter_[p].breaks_hold;
-  });
-  double sums[6] = {ns, ds, ne, de, static_cast<double>(n_plastic), static_cast<double>(n_broken)};
-  par::sum_in_place(std::span<double>(sums));
-  ns = sums[0], ds = sums[1], ne = sums[2], de = sums[3];
-  n_plastic = static_cast<int>(sums[4]);
-  r.holds_broken = static_cast<int>(sums[5]);
-  r.delta_sigma = ds > 0 ? std::sqrt(ns / ds) : 0.0;
-  r.delta_eps = de > 0 ? std::sqrt(ne / de) : 0.0;
-  r.plastic_points = n_plastic;
-}
-
-/// Warnings about the curves after a converged step: temperatures outside their tables,
-/// plastic strains beyond their last point. Collective.
-void PointPass::check_curves(const State& s, Log& log) const {
-  if (!plastic_) return;
-  const auto& mesh = m_.mesh();
-  const int n_mat = static_cast<int>(m_.materials().size());
-  std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY), e_max(n_mat, 0.0);
-  for (int e = 0; e < mesh.cells.size(); ++e) {
-    const int mi = m_.material_index(e);
-    if (!m_.materials()[mi].plastic()) continue;
-    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) {
-      t_min[mi] = std::min(t_min[mi], s.temperature[p]);
-      t_max[mi] = std::max(t_max[mi], s.temperature[p]);
-      e_max[mi] = std::max(e_max[mi], s.eps_p_eq[p]);
-    }
-  }
-  // Root warns for the whole model (the log is silent on the other ranks).
-  par::min_in_place(std::span<double>(t_min));
-  par::max_in_place(std::span<double>(t_max));
-  par::max_in_place(std::span<double>(e_max));
-  for (int k = 0; k < n_mat; ++k)
-    if (const auto& mat = m_.materials()[k]; mat.plastic() && t_min[k] <= t_max[k])
-      mat.hardening->warn_outside(mat.spec->name, t_min[k], t_max[k], e_max[k], log);
 }
 
 }  // namespace hencky

@@ -22,6 +22,10 @@ struct PointPassResult {
   double delta_eps = 0;           ///< the scheme's Δ^ε
   int plastic_points = 0;         ///< points that flow plastically in this iterate
   int holds_broken = 0;  ///< held points whose iterate lies on the other side of the yield stress
+  /// The largest σ̃/σ̃_y − 1 over the points of plastic materials (Scheme::yield_stress; −inf
+  /// without plasticity), and the points above σ̃_y·(1 + YieldExcess::slack).
+  double yield_excess = -INFINITY;
+  int points_above = 0;
 };
 
 /// How a point pass evaluates the points of plastic materials.
@@ -104,6 +108,9 @@ class PointPass {
   void move_broken_holds();
   /// Every point free again.
   void free_plastic_set();
+  /// The largest yield excess of the last pass with its point's place (node, position), the
+  /// same on every rank. Collective.
+  YieldExcess largest_excess() const;
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;
@@ -115,6 +122,11 @@ class PointPass {
   LawState law_state(const State& c, State& trial, int p) const;
   void keep_plastic_state(const State& c, State& trial, int p);
   void take_plastic_update(const State& c, State& trial, int p, const PointUpdate& u);
+  PointUpdate scheme_update(const State& c, State& trial, int p, const Voigt& sigma0,
+                            const Voigt& d_eps, PointMode mode);
+  /// σ̃/σ̃_y − 1 of point p at the iterate, from the law's stress (τ under `updated`).
+  void measure_excess(const MaterialModel& mat, const State& c, State& trial, int p,
+                      const Voigt& law_stress);
   void rotate_law_state(const PointLaw& law, const Mat3& r, State& trial, int p) const;
   /// f(p) for every point of this rank's cells of plastic materials, in the order of the cells.
   template <class F>
@@ -130,7 +142,16 @@ class PointPass {
   std::vector<Tangent> saved_tangent_;
   /// point_volume_: the points' volume weights on the mesh (plastic materials or `updated`).
   std::vector<double> defect_sigma_, defect_eps_, point_volume_;
+  std::vector<double> excess_;  ///< per point of a plastic material: σ̃/σ̃_y − 1 of the last pass
   std::vector<double> start_volume_ratio_;  ///< under `updated`: J(t) = dv/dV at the step's start
 };
+
+template <class F>
+void PointPass::for_plastic_points(F&& f) const {
+  for (int e = 0; e < m_.mesh().cells.size(); ++e) {
+    if (!m_.material_of(e).plastic() || !mine(e)) continue;
+    for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) f(p);
+  }
+}
 
 }  // namespace hencky

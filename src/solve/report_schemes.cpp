@@ -19,8 +19,9 @@
 // tests/tools/report_schemes.py implements again from the report's equations:
 // - Δε̃^{e+p}_k, the scalar increment of x = Δε_k − Δε^th, is ZᵀDx/3G: the one the matrix
 //   D̃ works with (ZᵀD̃x = tan β*·ZᵀDx/3G, (2.7)); Δσ̃_k = ZᵀΔσ_k;
-// - ε̃^{e+p}(t) is a state advanced by these increments (State::eps_ep), σ̃(t) the von Mises
-//   stress of σ(t);
+// - ε̃^{e+p}(t) is the state these increments advanced (State::eps_ep) where the point ended
+//   the step before at the largest ε̃ it reached, else the strain of σ̃(t) on the step's curve,
+//   F(σ̃(t)) (begin_point_step says why); σ̃(t) is the von Mises stress of σ(t);
 // - a point whose stress at t is below 1e-12 of its yield stress has no direction Z(t): it
 //   takes that of the iterate's trial stress σ(t) + Dx (FORMULATION.md: the current stress
 //   estimate), and the `-stiffness` matrix is D there;
@@ -30,7 +31,9 @@
 //   (the point stands on the curve's rising branch), else the line's 3G;
 // - a secant over an increment below 1e-8 of the strain (or stress) is the curve's slope there,
 //   its limit (the secant of a vanishing increment is 0/0);
-// - ω of (2.37) is a number, 1 unless solver.relaxation gives one.
+// - ω of (2.37) is a number, 1 unless solver.relaxation gives one;
+// - the measures are hencky's global RMS of the points' Δ^σ_k, Δ^ε_k (PointPass::measures),
+//   without the points elastic in this iterate and the one before.
 // No point law here takes the iterate's own direction, relaxes, switches forms or slopes, or
 // holds a plastic set: where the report's map leaves a point off the curve, it stays off
 // (report.largest_yield_excess says by how much).
@@ -81,17 +84,41 @@ class ReportScheme : public Scheme {
       ps.curve.yield_now = top;
       ps.curve.eps_yield_now = at.eps_ep_max;
     }
-    ps.eps_ep = at.eps_ep;
     const double q0 = von_mises(at.sigma);
     if (q0 > no_direction * ps.curve.yield_now) ps.z = flow_direction(at.sigma);  // (2.10)
+    // ε̃^{e+p}(t): on the rising branch (the step before ended at the largest ε̃ reached) the
+    // state the increments advanced; below it, the strain of σ̃(t) on the step's curve, F(σ̃(t)).
+    // The increments are signed along Z(t), and σ̃(t) is not: where the stress passed through
+    // zero in the step before, Z turned over and the advanced scalar had gone down the elastic
+    // line past its foot, Φ(ε̃(t)) < 0 < σ̃(t), which (2.33)-(2.46) would read as a plastic
+    // strain (q0 − Φ(ε̃(t)))/3G in the next step. F(σ̃(t)) is the scalar the report's curve
+    // gives σ(t): an unloaded point restarts along its new Z from the foot of its line, as
+    // isotropic hardening has it. (The same at a new temperature's curve and 3G.)
+    ps.flowing = at.eps_ep >= at.eps_ep_max;
+    ps.eps_ep = at.eps_ep;
+    // A point not on its rising branch but at or above its yield stress (the report's map can
+    // leave σ̃(t) above the curve where the stress turned) stands at the kink, ε̃_max: reading
+    // F there would raise its hardening by the excess.
+    if (!ps.flowing)
+      ps.eps_ep = q0 < ps.curve.yield_now ? ps.curve.f(q0).value : ps.curve.eps_yield_now;
     // tan β*_0: the curve's slope at the step's start, Φ'(ε̃(t)) (2.33), (2.46); (2.34) and
     // (2.40) write it 1/F'(σ̃(t)), the same slope at the same point of the curve. On the rising
-    // branch (ε̃(t) the largest reached) the loading side of a kink; a point without a
-    // direction (σ̃(t) = 0) is at the foot of its elastic line: 3G.
-    ps.flowing = at.eps_ep >= at.eps_ep_max;
-    ps.tan0 = has_direction(ps) ? ps.curve.phi(at.eps_ep, ps.flowing).slope : three_g;
+    // branch the loading side of a kink; a point without a direction (σ̃(t) = 0) is at the foot
+    // of its elastic line: 3G.
+    ps.tan0 = has_direction(ps) ? ps.curve.phi(ps.eps_ep, ps.flowing).slope : three_g;
     it = start_iteration(ps);
     return ps;
+  }
+
+  /// The report's curve at the largest ε̃^{e+p} reached: the top of the elastic line below it
+  /// (with the report's elastic unloading), or the curve at ε̃^{e+p} itself without it.
+  double yield_stress(const PointStep& ps, double, double eps_ep,
+                      double eps_ep_max) const override {
+    const StepCurve& c = ps.curve;
+    if (!c.elastic_unloading) return c.phi(eps_ep).value;
+    return eps_ep_max > c.eps_yield_now
+               ? c.hardening->phi(eps_ep_max, c.temperature, c.three_g).value
+               : c.yield_now;
   }
 
   PointUpdate evaluate_initial(const ElasticConstants& k1, const PointStep& ps,
@@ -146,6 +173,10 @@ class ReportScheme : public Scheme {
   /// The memory of the next iteration.
   static void remember(PointUpdate& u, const PointIteration& it, const Along& a, double ds,
                        double tan_beta, double lambda0) {
+    // A point elastic in this iterate and the one before has no curve defect, and the change of
+    // its strain between them is the residual's: it does not enter the measures (it would
+    // divide round-off by a vanishing σ̃ where a body is unloaded to no stress).
+    if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
     u.next = it;
     u.next.x_prev = a.xt;
     u.next.ds_prev = ds;

@@ -48,6 +48,10 @@ PointUpdate Scheme::evaluate_initial(const ElasticConstants&, const PointStep&,
   HENCKY_VERIFY(false, "evaluate_initial is the report's schemes' only");
 }
 
+double Scheme::yield_stress(const PointStep& ps, double eps_p, double, double) const {
+  return ps.curve.hardening->plastic(std::max(eps_p, 0.0), ps.curve.temperature).value;
+}
+
 PointIteration Scheme::start_iteration(const PointStep& ps) const {
   PointIteration it;
   it.tan_beta = initial_tan_beta(ps.tan0, ps.curve.three_g);

@@ -7,16 +7,19 @@
 // where σ_k is the stress each scheme assigns to the iterate Δu_k after updating its parameters
 // (β*, Δε^0, Δσ^0) from it, and K_k the matrix of the scheme. With σ_k = D̃(β*)(Δε_k − Δε^th −
 // Δε^0) + Δσ^0 this is algebraically the report's equation (2.29) for iteration k+1 (the terms
-// K_kΔu_k cancel), so every scheme is reproduced as written, with the error correction (2.30)
-// in F_target. docs/schemes.md derives this.
+// K_kΔu_k cancel), with the error correction (2.30) in F_target. docs/schemes.md derives this.
 //
-// All five schemes share one converged point law: the stress, projected on the step's flow
-// direction Z, lands on the curve, Zᵀσ(t+Δt) = Φ(ε̃^{e+p}(t) + Δε̃^{e+p}), with the plastic
-// strain increment along Z. They differ in the path: which matrix (elastic D, the start-of-step
+// Two sets of point laws run in that loop (solver.formulation). The report's five schemes as
+// written (formulation: report) are in report_schemes.cpp. hencky's (the default), here and in
+// fixed_matrix_schemes.cpp, are not the report's iteration: they take the iterate's own flow
+// direction and add strategies of their own (docs/schemes.md, "Two formulations"), and all
+// share one converged point law: the stress, projected on the flow direction Z, lands on the
+// curve, Zᵀσ(t+Δt) = Φ(ε̃^{e+p}(t) + Δε̃^{e+p}), with the plastic strain increment along Z:
+// newton's radial return. They differ in the path: which matrix (elastic D, the start-of-step
 // tangent D̃(β*_0), or the secant D̃(β*_k) rebuilt every iteration) and which pseudo-load
 // corrects the defect (initial strains in F-form, initial stresses in Φ-form).
 //
-// Definitions the report leaves open (docs/schemes.md):
+// Definitions the report leaves open, as hencky's schemes take them (docs/schemes.md):
 // - the scalar increment Δε̃^{e+p} of a strain increment x = Δε − Δε^th is its projection
 //   ZᵀDx / 3G (signed): the scalar the matrix D̃ of (2.9) works with, since ZᵀD̃x = tanβ*·ZᵀDx/3G;
 // - ε̃^{e+p}(t) at the start of a step is ε̃^p(t) + Zᵀσ(t)/3G(t+Δt): the advanced scalar on
@@ -172,6 +175,10 @@ class Scheme {
   virtual PointUpdate evaluate_initial(const ElasticConstants& k1, const PointStep& ps,
                                        const PointIteration& it, const Voigt& sigma0,
                                        const Voigt& x) const;
+  /// The yield stress the state of an iterate stands for (the admissibility check σ̃ ≤ it):
+  /// H(ε̃^p, T) at t+Δt, the surface of hencky's schemes; the report's schemes override it.
+  virtual double yield_stress(const PointStep& ps, double eps_p, double eps_ep,
+                              double eps_ep_max) const;
   /// The scheme is one of the report's as written (formulation: report): its step starts from
   /// evaluate_initial and it has none of hencky's additions.
   virtual bool has_initial_evaluation() const { return false; }

@@ -2,6 +2,7 @@
 // What the step loop works on and reports: the state of the body at a converged time or at an
 // iterate, a converged step's report, the run's timings, and the observer that sees every
 // converged step.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -66,6 +67,18 @@ struct StepTarget {
   int depth = 0;
 };
 
+/// The largest relative excess σ̃/σ̃_y − 1 of the von Mises stress over the yield stress at the
+/// integration points of plastic materials (the admissibility of a state), with the cell's node
+/// nearest that point (its file number) and the point's position in the undeformed mesh.
+struct YieldExcess {
+  double value = -INFINITY;  ///< −inf: no plastic material
+  long node = 0;
+  Vec3 x = Vec3::Zero();
+  /// The slack of the check σ̃ ≤ σ̃_y·(1 + slack): round-off of the curves' own evaluation, far
+  /// below any tolerance a step converges to.
+  static constexpr double slack = 1e-6;
+};
+
 struct StepReport {
   int step = 0;  ///< 1-based count of converged steps
   double time = 0;
@@ -75,6 +88,7 @@ struct StepReport {
   double delta_eps = 0;    ///< the scheme's Δ^ε of the last iteration
   int factorizations = 0;  ///< matrix factorizations in this step (cut-back attempts included)
   int plastic_points = 0;  ///< integration points that flowed plastically in this step
+  YieldExcess yield_excess;  ///< of the committed state
   bool last = false;       ///< the final step of the analysis
   /// The step's fields are written (every output.every-th step and the last): the recovered
   /// fields then hold the cells' values too.

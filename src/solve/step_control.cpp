@@ -84,6 +84,10 @@ bool attempt(const Model& model, Equilibrium& eq, const State& committed, double
     if (eq.step(committed, t1, trial, out)) return true;
     why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", out.iterations,
                       out.residual);
+    if (out.points_above > 0)
+      why += fmt::format("; {} points of the last iterate lie above their yield stress, by up to "
+                         "{:.3g}",
+                         out.points_above, out.yield_excess.value);
     if (const std::string c = eq.contact_diagnosis(); !c.empty()) why += "; " + c;
   } catch (const SolverOptionsError& e) {
     throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "solver.petsc_options"},
@@ -212,6 +216,7 @@ class StepLoop {
     report.delta_eps = out.delta_eps;
     report.factorizations = eq_.factorizations() - factorizations_before_;
     report.plastic_points = out.plastic_points;
+    report.yield_excess = out.yield_excess;
     report.last = last;
     report.write_fields = report.last || report.step % model_.spec().output.every == 0;
     factorizations_before_ = eq_.factorizations();

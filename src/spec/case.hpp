@@ -328,7 +328,8 @@ struct SolverSpec {
   /// the initial strains and 5 for the initial stresses (src/solve/anderson.hpp,
   /// choose_policy). `auto` (the default) mixes wherever the scheme allows it
   /// (Scheme::allows_acceleration), `anderson` asks for it (an input error where the scheme does
-  /// not allow it), `none` is the report's plain iteration.
+  /// not allow it), `none` takes the scheme's own map unmixed (formulation: report is the
+  /// report's plain iteration).
   enum class Acceleration { automatic, none, anderson };
   Acceleration acceleration = Acceleration::automatic;
   /// `line_search: auto | none`: `auto` (the default) scales each correction of

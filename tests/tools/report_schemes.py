@@ -18,7 +18,9 @@ parameters of (2.33), (2.34), (2.37), (2.40), (2.43), (2.46); the thermal increm
 with its (A1 - A0) sigma(t) term. What the report leaves open is decided as hencky's docs say
 (docs/schemes.md, "formulation: report"), and these decisions are the only shared ground:
 - the scalar increment of x = d_eps - d_eps_th is Z^T D x / 3G (signed); eps~(t) is the state
-  these increments advance, sigma~(t) the von Mises stress of sigma(t);
+  these increments advanced where the step before ended at the largest eps~ reached, else the
+  strain of sigma~(t) on the step's curve, F(sigma~(t)) (the kink where sigma~(t) is at or
+  above the yield stress); sigma~(t) the von Mises stress;
 - a stress at t below 1e-12 of the yield stress has no direction: Z is the trial's;
 - elastic unloading: below the largest eps~ reached, the line of slope 3G(t+dt) through the
   curve's point there; tan b*_0 is the curve's slope at eps~(t) (its loading side when eps~(t)
@@ -26,7 +28,8 @@ with its (A1 - A0) sigma(t) term. What the report leaves open is decided as henc
 - a secant over an increment below 1e-8 of eps~ (of sigma~) is the slope there;
 - the stress of iterate k that hencky reports is the one the next solve starts from (the step
   loop's residual form): sigma(t) + D~(b*_{k+1})(x - d_eps0_{k+1}) + d_sigma0_{k+1};
-- the measures are |Delta_k| with sigma~ and eps~ those of that iterate;
+- the measures are |Delta_k| with sigma~ and eps~ those of that iterate, and 0 at a point
+  elastic (plastic multiplier below 1e-12 of eps~) in this iterate and the one before;
 - a step converges at the first iterate whose two measures are <= 1e-6.
 
 The point is the one hexahedron of tests/cli/inputs/nl1/cube.geo with every degree of freedom
@@ -172,13 +175,16 @@ def run(path, variant):
         x = strain(path, t) - strain(path, t_prev) - d_th
         curve = Curve(T1, g3, eps_max)
         q0 = von_mises(sigma)
+        loading = eps_t >= eps_max
+        if not loading:  # below the largest eps~ reached: the strain of sigma~(t) on the curve,
+            eps_t = curve.f(q0) if q0 < curve.top else curve.kink  # the kink at or above it
         Z = M @ sigma / q0 if q0 > 1e-12 * curve.top else None
         if Z is None:  # no direction at t: the trial stress's
             trial = sigma + D @ x
             Z = M @ trial / von_mises(trial) if von_mises(trial) > 0 else np.zeros(6)
             tan0 = g3
         else:
-            tan0 = curve.phi_slope(eps_t, eps_t >= eps_max)
+            tan0 = curve.phi_slope(eps_t, loading)
         dx = (Z @ D @ x) / g3  # d_eps~_k: the same x at every iterate (all prescribed)
         stiff = scheme.endswith("stiffness") and scheme != "variable-stiffness"
         tb = tan0 if stiff else g3  # the fixed matrix's slope
@@ -186,7 +192,7 @@ def run(path, variant):
         small_e = 1e-8 * max(abs(eps_t), curve.kink)
         small_s = 1e-8 * max(abs(q0), curve.top)
         tan_k, e0, s0 = (tan0 if scheme == "variable-stiffness" else tb), np.zeros(6), np.zeros(6)
-        dx_prev, ds_prev = 0.0, 0.0
+        dx_prev, ds_prev, plastic_prev = 0.0, 0.0, False
         converged = False
         for k in range(MAX_ITERATIONS):
             if scheme == "variable-stiffness":
@@ -200,7 +206,7 @@ def run(path, variant):
                 else:  # (2.33)
                     ph = curve.phi(eps_t + dx)
                     n_sig, n_eps = ph - (q0 + ds), dx - dx_prev
-                    tan_k = (ph - q0) / dx if abs(dx) > small_e else curve.phi_slope(eps_t, eps_t >= eps_max)
+                    tan_k = (ph - q0) / dx if abs(dx) > small_e else curve.phi_slope(eps_t, loading)
                 sig_next = sigma + d_tilde(D, Z, tan_k, g3) @ x
             elif scheme.startswith("initial-strain"):  # (2.37), (2.40)
                 ds = Z @ (Db @ (x - e0))
@@ -212,10 +218,16 @@ def run(path, variant):
                 ds = Z @ (Db @ x + s0)
                 ph = curve.phi(eps_t + dx)
                 n_sig, n_eps = ph - (q0 + ds), dx - dx_prev
-                tan_ss = (ph - q0) / dx if abs(dx) > small_e else curve.phi_slope(eps_t, eps_t >= eps_max)
+                tan_ss = (ph - q0) / dx if abs(dx) > small_e else curve.phi_slope(eps_t, loading)
                 s0 = (d_tilde(D, Z, tan_ss, g3) - Db) @ x
                 sig_next = sigma + Db @ x + s0
             e_k = eps_t + dx
+            # the plastic multiplier along Z: what of D x the stress change does not carry
+            lam = Z @ (D @ x - (sig_next - sigma)) / g3
+            plastic = abs(lam) > 1e-12 * max(abs(e_k), curve.kink)
+            if not plastic and not plastic_prev:
+                n_sig = n_eps = 0.0
+            plastic_prev = plastic
             m_sig, m_eps = abs(n_sig) / von_mises(sig_next), abs(n_eps) / abs(e_k)
             rows.append((step, t, k, m_sig, m_eps, sig_next, e_k))
             dx_prev, ds_prev = dx, ds

@@ -53,6 +53,17 @@ ex_check "report: on the turning path the report's answer differs from hencky's 
   "$d/turning-initial-stress.out/history.csv" \
   "abs(at(2)['c.von_mises'] / [float(r['c.von_mises']) for r in __import__('csv').DictReader(open('$c.out/history.csv')) if abs(float(r['time']) - 2) < 1e-9][0] - 1) > 0.01"
 
+# ... and the report's map leaves its points above the yield surface there: the log says so at
+# every such step and the summary gives the largest excess (measured: 31 % in the first step
+# of the shear leg).
+if grep -q "the report's map leaves [0-9]* points above their yield stress" \
+     "$d/turning-initial-stress.out/hencky.log"; then
+  ok "report: the log says where the report's map leaves points above the yield stress"
+else bad "report: no line about points above the yield stress on the turning path"; fi
+ex_check "report: on the turning path the largest yield excess is above 1e-3 (the report's Z(t))" \
+  "$d/turning-initial-stress.out/summary.json" \
+  "s['report']['largest_yield_excess']['value'] > 1e-3 and s['formulation'] == 'report'"
+
 # Settings that would add one of hencky's strategies are refused by name.
 refuse() {  # refuse NAME SED-EXPRESSION PATTERN
   local c="$d/refuse-$1"
