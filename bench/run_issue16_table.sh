@@ -10,7 +10,19 @@
 #              the cases run are replaced)
 #   TIMEOUT    seconds per run       (default 300; a run killed by it shows status 124)
 #   THREADS    --threads of the runs (default: hencky's default)
-#   SCHEMES    space-separated list of variants (default: the seven below)
+#   SCHEMES    space-separated list of variants (default: the seven below; without newton
+#              under FORMULATION=report)
+#   FORMULATION  when set (hencky or report), each copy gets a line `formulation: <value>`
+#              after its scheme line; under `report` newton is skipped (the reader refuses it)
+#   VS_DIR     another WORK_DIR: the "vs" column then compares each run with the same case and
+#              variant there (VS_DIR/<case>/<variant>/out, e.g. the runs of the other
+#              formulation) instead of with this run's newton
+#              (the reference's largest values over its run are cached in its out/largest.json)
+#
+# Columns of rows.tsv (WORK_DIR/rows.tsv): case, unknowns, variant, exit, steps (planned), t,
+# iterations, cut-backs, factorizations, plastic points, wall s, stopped because, vs, and
+# summary.json's report.largest_yield_excess.value (the largest σ̃/σ_y − 1 over the run; "-"
+# if the binary does not write it).
 #
 # Every case file sets `scheme: newton` on a line of its own in `solver:`; the per-scheme copy
 # replaces that line (variable-stiffness/strain adds `curve_form: strain` under it). The copy
@@ -23,6 +35,9 @@ cases_dir="${CASES_DIR:-$(cd "$(dirname "$0")/.." && pwd)/tests/cli/inputs/issue
 work="${WORK_DIR:-/tmp/issue16/work-$(basename "$bin")}"
 timeout_s="${TIMEOUT:-300}"
 schemes="${SCHEMES:-newton initial-stress initial-stress-stiffness initial-strain initial-strain-stiffness variable-stiffness variable-stiffness/strain}"
+formulation="${FORMULATION:-}"
+vs_dir="${VS_DIR:-}"
+vs_label="newton"; [ -n "$vs_dir" ] && vs_label="$(basename "$vs_dir")"
 threads_opt=()
 [ -n "${THREADS:-}" ] && threads_opt=(--threads "$THREADS")
 
@@ -52,6 +67,7 @@ for c in "${cases[@]}"; do
   dofs="$("$bin" check "$src/case.yaml" 2>/dev/null | sed -n 's/^ *unknowns: //p')"
   rm -rf "${work:?}/$c"
   for v in $schemes; do
+    [ "$formulation" = report ] && [ "$v" = newton ] && continue
     s="${v%%/*}"; form=""; [ "$v" != "$s" ] && form="${v#*/}"
     d="$work/$c/${v//\//-}"; mkdir -p "$d"
     cp -r "$src"/. "$d"/
@@ -60,12 +76,15 @@ for c in "${cases[@]}"; do
     else
       sed -E -i "s/^([[:space:]]*)scheme:[[:space:]]*newton[[:space:]]*(#.*)?\$/\1scheme: $s/" "$d/case.yaml"
     fi
+    [ -n "$formulation" ] &&
+      sed -E -i "s/^([[:space:]]*)scheme:[[:space:]]*$s[[:space:]]*\$/&\n\1formulation: $formulation/" "$d/case.yaml"
     t0=$(date +%s.%N)
     timeout "$timeout_s" "$bin" run "$d/case.yaml" -o "$d/out" --quiet "${threads_opt[@]}" >"$d/terminal.txt" 2>&1
     rc=$?
     t1=$(date +%s.%N)
     wall=$(/usr/bin/python3 -c "print(f'{$t1 - $t0:.2f}')")
-    /usr/bin/python3 - "$c" "$v" "$rc" "$wall" "$d" "$planned" "$dofs" "$work/$c/newton/out" \
+    ref_out="$work/$c/newton/out"; [ -n "$vs_dir" ] && ref_out="$vs_dir/$c/${v//\//-}/out"
+    /usr/bin/python3 - "$c" "$v" "$rc" "$wall" "$d" "$planned" "$dofs" "$ref_out" \
       "$(dirname "$0")/../tests/tools" >>"$rows" <<'EOF'
 import csv, json, os, re, sys
 case, variant, rc, wall, d, planned, dofs, newton_out, tools = sys.argv[1:]
@@ -125,7 +144,7 @@ def steps_of(out_dir):
 # unloading is near zero stress); both runs on the same mesh, nodes in one order
 vs_newton = "-"
 a, b = steps_of(newton_out), steps_of(out)
-if a and b and variant != "newton":
+if a and b and os.path.realpath(newton_out) != os.path.realpath(out):
     from compare_results import read_vtu
     import numpy as np
     fa, fb = read_vtu(a[-1]), read_vtu(b[-1])
@@ -145,12 +164,14 @@ if a and b and variant != "newton":
         if ref > 0:
             worst = max(worst, np.abs(fa[name] - fb[name]).max() / ref)
     vs_newton = f"{worst:.1e}"
+excess = summ.get("report", {}).get("largest_yield_excess", {}).get("value")
+excess = "-" if excess is None else f"{excess:.1e}"
 fields = [case, dofs, variant, rc, f"{summ.get('steps', '-')} ({planned})", t_reached,
           str(summ.get("iterations", "-")), str(cutbacks), str(summ.get("factorizations", "-")),
-          str(max_pp), wall, short, vs_newton]
+          str(max_pp), wall, short, vs_newton, excess]
 print("\t".join(fields))
 EOF
-    tail -n 1 "$rows" | awk -F'\t' '{printf "%-24s %-26s exit %s  steps %-8s t %-6s it %-5s cb %-2s fact %-5s %ss  vs newton %s  %s\n", $1, $3, $4, $5, $6, $7, $8, $9, $11, $13, $12}' >&2
+    tail -n 1 "$rows" | awk -F'\t' '{printf "%-24s %-26s exit %s  steps %-8s t %-6s it %-5s cb %-2s fact %-5s %ss  vs %s  excess %s  %s\n", $1, $3, $4, $5, $6, $7, $8, $9, $11, $13, $14, $12}' >&2
   done
 done
 
@@ -159,18 +180,19 @@ done
   echo
   echo "binary: \`$bin\` ($("$bin" --version 2>&1 | head -n 1)); cases: \`$cases_dir\`;"
   echo "generated $(date -u '+%Y-%m-%d %H:%M UTC') on $(nproc) cores by bench/run_issue16_table.sh; every run on the case's settings"
-  echo "(solver defaults except what the case sets), only \`scheme\` (and \`curve_form\`) changed."
+  echo "(solver defaults except what the case sets), only \`scheme\` (and \`curve_form\`) changed${formulation:+, \`formulation: $formulation\` added}."
   echo
   echo "Columns: exit status (0 converged, 2 not converged, 124 killed after ${timeout_s} s); steps converged"
   echo "(planned steps); last converged time; iterations (all attempts, cut-back attempts included);"
   echo "cut-backs (\"cutting back\" lines of hencky.log); factorizations (summary.json); the largest"
   echo "number of plastic points in a step; wall time of the process; why it stopped; against"
-  echo "newton: the largest difference of the nodal displacement and of the nodal stress at the end,"
-  echo "each relative to newton's largest value of that field over the run."
+  echo "$vs_label: the largest difference of the nodal displacement and of the nodal stress at the end,"
+  echo "each relative to $vs_label's largest value of that field over the run; the largest yield"
+  echo "excess σ̃/σ_y − 1 of the run (summary.json report.largest_yield_excess)."
   echo
-  echo "| case | unknowns | scheme | exit | steps | t | iterations | cut-backs | factorizations | plastic pts | wall s | stopped because | vs newton |"
-  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"
-  awk -F'\t' '{printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13}' "$rows"
+  echo "| case | unknowns | scheme | exit | steps | t | iterations | cut-backs | factorizations | plastic pts | wall s | stopped because | vs $vs_label | yield excess |"
+  echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|"
+  awk -F'\t' '{printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14}' "$rows"
   echo
   echo "At a glance: exit status / iterations / cut-backs, one row per case (vs = variable-stiffness)."
   echo
