@@ -170,20 +170,11 @@ class ReportScheme : public Scheme {
     return u;
   }
 
-  /// The memory of the next iteration.
+  /// The memory of the next iteration (remember_iterate, with the initial strain's λ0).
   static void remember(PointUpdate& u, const PointIteration& it, const Along& a, double ds,
                        double tan_beta, double lambda0) {
-    // A point elastic in this iterate and the one before has no curve defect, and the change of
-    // its strain between them is the residual's: it does not enter the measures (it would
-    // divide round-off by a vanishing σ̃ where a body is unloaded to no stress).
-    if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
-    u.next = it;
-    u.next.x_prev = a.xt;
-    u.next.ds_prev = ds;
-    u.next.tan_beta = tan_beta;
+    remember_iterate(u, it, a.xt, ds, tan_beta);
     u.next.lambda0 = lambda0;
-    u.next.plastic_prev = u.plastic;
-    ++u.next.k;
   }
 
  private:

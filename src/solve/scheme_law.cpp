@@ -53,17 +53,8 @@ void finish(const ElasticConstants& k1, const PointStep& ps, const PointIteratio
   u.plastic = lambda != 0;
   u.sigma = sigma0 + a.dx - lambda * Tangent{}.times(k1, a.z);  // σ(t) + D(x − Zλ)
   u.eps_ep = a.eps0 + a.xt;
-  // A point elastic in this iterate and the one before follows the linear law exactly: its
-  // curve defects vanish to round-off and a change between iterations says nothing about the
-  // curve, so it does not enter the measures (an elastic step converges in one solve).
-  if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
-  u.next = it;
-  u.next.x_prev = a.xt;
-  u.next.ds_prev = ds;
-  u.next.tan_beta = new_tan;
+  remember_iterate(u, it, a.xt, ds, new_tan);
   u.next.e0 = e0;
-  u.next.plastic_prev = u.plastic;
-  ++u.next.k;
 }
 
 }  // namespace hencky::scheme_law

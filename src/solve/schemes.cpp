@@ -52,6 +52,17 @@ double Scheme::yield_stress(const PointStep& ps, double eps_p, double, double) c
   return ps.curve.hardening->plastic(std::max(eps_p, 0.0), ps.curve.temperature).value;
 }
 
+void remember_iterate(PointUpdate& u, const PointIteration& it, double xt, double ds,
+                      double tan_beta) {
+  if (!u.plastic && !it.plastic_prev) u.defect_sigma = u.defect_eps = 0;
+  u.next = it;
+  u.next.x_prev = xt;
+  u.next.ds_prev = ds;
+  u.next.tan_beta = tan_beta;
+  u.next.plastic_prev = u.plastic;
+  ++u.next.k;
+}
+
 PointIteration Scheme::start_iteration(const PointStep& ps) const {
   PointIteration it;
   it.tan_beta = initial_tan_beta(ps.tan0, ps.curve.three_g);

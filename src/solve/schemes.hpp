@@ -120,6 +120,15 @@ struct PointUpdate {
   PointIteration next;           ///< the scheme's memory for iteration k+1
 };
 
+/// The memory of the next iteration after iterate `u` (from the memory `it`; xt = Δε̃_k,
+/// ds = Δσ̃_k, tan_beta: tan β of k+1). A point elastic in this iterate and the one before
+/// follows the linear law exactly: its curve defects vanish to round-off and a change between
+/// iterations says nothing about the curve (it is the residual's), so its measures are dropped
+/// (an elastic step converges in one solve; a body unloaded to no stress does not divide
+/// round-off by a vanishing σ̃).
+void remember_iterate(PointUpdate& u, const PointIteration& it, double xt, double ds,
+                      double tan_beta);
+
 /// One scheme: the start of a step at a point, the point law, when the matrix changes and
 /// whether acceleration applies. The six implementations are in schemes.cpp (newton,
 /// variable-stiffness) and fixed_matrix_schemes.cpp (the initial strains and stresses).
