@@ -55,6 +55,10 @@ Equilibrium::Equilibrium(const Model& m, LinearSystem& system, Log& log, Timings
     if (!only || (*only)[e])
       HENCKY_VERIFY(m.holds_points(e), "the model does not hold the points of this rank's cells");
   if (policy_.plastic) model_size_ = model_size(m.mesh(), m.layout());
+  if (policy_.report && policy_.plastic)
+    log.info("formulation: report: the report's {} as written (docs/schemes.md, \"Two "
+             "formulations\")",
+             scheme_->name());
 }
 
 State Equilibrium::initial_state() const {
