@@ -213,6 +213,19 @@ for run in heated-bar:initial-stress heated-bar:initial-strain unload-contact:in
     's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"]'
 done
 
+# --- formulation: report (issue 46) on 2 ranks: the report's initial stresses on the plastic
+# cylinder, the same iterates as serial (its Z(t) and its measures are per point; the sums over
+# the ranks decide alike).
+d="$work/parallel-report"
+rm -rf "$d" && mkdir -p "$d" && cp -r "$src/tests/cli/inputs/issue16/epp-cylinder/." "$d/"
+sed -i -E 's/^([[:space:]]*)scheme:[[:space:]]*newton[[:space:]]*$/\1scheme: initial-stress\n\1formulation: report/' "$d/case.yaml"
+expect "parallel report, epp-cylinder, initial-stress: serial" 0 "" -- run "$d/case.yaml" -o "$d/r1" --quiet
+mpi_expect "parallel report, epp-cylinder, initial-stress: 2 ranks" 0 "" 2 -- run "$d/case.yaml" -o "$d/r2" --quiet
+same "parallel report, epp-cylinder, initial-stress: 2 ranks = serial to 1e-8" "$d/r1" "$d/r2" 1e-8 \
+  displacement,stress,equivalent_plastic_strain
+ex_check "parallel report: the same iterations and yield excess on 2 ranks" "$d/r2/summary.json" \
+  's["iterations"] == json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["iterations"] and close(s["report"]["largest_yield_excess"]["value"], json.load(open(sys.argv[1].replace("/r2/", "/r1/")))["report"]["largest_yield_excess"]["value"], 1e-8) and s["formulation"] == "report"'
+
 # --- More ranks than cells: a fully prescribed single hexahedron (NAFEMS NL1, issue 23) on 2
 # ranks, one of which holds no cell. Its checkpoint used to stop the distributed run with an
 # internal error and hang the replicated one (the points' tangents record, written by the rank
