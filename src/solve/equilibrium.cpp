@@ -148,6 +148,11 @@ bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out
       trial.force_integral = c.force_integral + f_step * (trial.time - c.time);
       return true;
     }
+    if (limit_.diverges(out.iterations, out.load_residual)) {
+      out.diverged = true;
+      out.best_residual = limit_.best_residual();
+      return false;
+    }
     const bool contact_converged = !contact || iterate_.contact().progress().converged();
     if (limit_.reached(out.iterations, contact_converged, log_)) {
       require_strain_form(ev);  // the reason, where the iterate left the strain form's range
@@ -175,6 +180,7 @@ double Equilibrium::measure(const State& trial, const Evaluation& ev, double f_n
   // A NaN or an infinity in the iterate makes r or the scale non-finite; a NaN scale would
   // read as "no load" above (and a residual of 0 as converged).
   if (!std::isfinite(ev.r2) || !std::isfinite(scale)) out.residual = NAN;
+  out.load_residual = f_norm > 0 ? std::sqrt(ev.r2) / f_norm : out.residual;
   out.delta_sigma = ev.points.delta_sigma;
   out.delta_eps = ev.points.delta_eps;
   out.plastic_points = ev.points.plastic_points;
@@ -184,9 +190,9 @@ double Equilibrium::measure(const State& trial, const Evaluation& ev, double f_n
   if (m_.layout().shared()) {
     // The sums over ranks may differ in their last bits from rank to rank: root's figures
     // decide for all.
-    double d[3] = {out.residual, out.delta_sigma, out.delta_eps};
+    double d[4] = {out.residual, out.delta_sigma, out.delta_eps, out.load_residual};
     par::broadcast(std::span<double>(d));
-    out.residual = d[0], out.delta_sigma = d[1], out.delta_eps = d[2];
+    out.residual = d[0], out.delta_sigma = d[1], out.delta_eps = d[2], out.load_residual = d[3];
   }
   report(out);
   if (iterate_observer_)

@@ -25,6 +25,9 @@ namespace hencky {
 struct StepOutcome {
   int iterations = 0;
   double residual = 0;     ///< relative; at convergence the true equilibrium defect
+  /// The residual relative to the step's own force scale alone (without the iterate's internal
+  /// forces, which enter `residual`'s scale with contact and grow with a diverging iterate).
+  double load_residual = 0;
   double delta_sigma = 0;  ///< the scheme's Δ^σ (0 without plasticity)
   double delta_eps = 0;
   int plastic_points = 0;
@@ -35,6 +38,10 @@ struct StepOutcome {
   /// points above σ̃_y·(1 + YieldExcess::slack).
   YieldExcess yield_excess;
   int points_above = 0;
+  /// The step stopped because its residual diverged (IterationLimit::diverges): the step's best
+  /// relative residual before it.
+  bool diverged = false;
+  double best_residual = 0;
 };
 
 class Equilibrium {

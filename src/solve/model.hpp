@@ -230,6 +230,10 @@ class Model {
   void check_temperature_range();
   void bind_outputs();
   void bind_contact();
+  /// Every connected body is held against its six rigid motions by its displacement
+  /// conditions, or by contact (a warning); else an InputError naming the body and the motions
+  /// (model_held.cpp). On a whole mesh.
+  void check_held(Log& log) const;
   /// A part's contact points, bound together (join): every copy of a point has the whole
   /// model's area, element size and stiffness. Collective.
   void bind_contact_of_part();

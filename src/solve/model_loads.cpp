@@ -70,7 +70,8 @@ void Model::bind_boundary() {
   if (dist_.part) return;  // a part may hold no support and no free dof: the whole model has both
   bool any = false;
   for (bool p : prescribed) any = any || p;
-  if (!any)
+  // With contact the rigid surfaces may hold the body (check_held decides).
+  if (!any && case_->contact.empty())
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");

@@ -82,8 +82,14 @@ bool attempt(const Model& model, Equilibrium& eq, const State& committed, double
              bool first_step, StepOutcome& out, std::string& why) {
   try {
     if (eq.step(committed, t1, trial, out)) return true;
-    why = fmt::format("no convergence in {} iterations (relative residual {:.3e})", out.iterations,
-                      out.residual);
+    why = out.diverged
+              ? fmt::format("the iteration diverges: the residual grew to {:.3e} of the step's "
+                            "force scale in iteration {}, more than {:g} times its best in the "
+                            "step ({:.3e})",
+                            out.load_residual, out.iterations, IterationLimit::divergence_growth,
+                            out.best_residual)
+              : fmt::format("no convergence in {} iterations (relative residual {:.3e})",
+                            out.iterations, out.residual);
     if (out.points_above > 0)
       why += fmt::format("; {} points of the last iterate lie above their yield stress, by up to "
                          "{:.3g}",

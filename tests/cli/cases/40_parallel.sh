@@ -297,18 +297,25 @@ expect "parallel: an option PETSc cannot set up with is an input error naming so
 mpi_expect "parallel: -matptap_via allatonce works on 2 ranks" 0 "" 2 -- \
   run "$d/case-petsc.yaml" -o "$d/allatonce2" --quiet --petsc "-matptap_via allatonce"
 same "parallel: ... and gives the serial answer to 1e-7" "$d/direct" "$d/allatonce2" 1e-7 displacement,stress
-# A body that is not held: the direct solve (MUMPS factors the singular matrix without
-# complaint; its residual gives it away) and CG + GAMG both stop with the input error.
+# A body that is not held: refused on 2 ranks as on one, before anything is solved, naming
+# its free motions (Model::check_held).
 ex_copy cantilever
 d="$work/examples/cantilever"
 ex_set "$d/beam.geo" '^n = [0-9]+;' 'n = 4;'
 ex_set "$d/case.yaml" 'displacement: \{x: 0, y: 0, z: 0\}' 'displacement: {x: 0}'
-with_linear direct "$d/case.yaml"
-mpi_expect "parallel: a body not held, MUMPS on 2 ranks: exit 1 naming the cause" 1 \
-  "'boundary'.*relative residual.*not held against rigid-body motion" 2 -- run "$d/case-direct.yaml" --quiet
 with_petsc "$d/case.yaml"
-mpi_expect "parallel: a body not held, CG + GAMG on 2 ranks: exit 1 naming the cause" 1 \
-  "'boundary'.*not held against rigid-body motion" 2 -- run "$d/case-petsc.yaml" --quiet
+mpi_expect "parallel: a body not held, 2 ranks: exit 1 naming its free motions" 1 \
+  "'boundary': the body is not held: its displacement conditions leave 3 rigid motions free: translation along y; translation along z; rotation about .* along x" \
+  2 -- run "$d/case-petsc.yaml" --quiet
+# A body that contact alone may hold, which the surface does not touch in the first step: the
+# direct solve (MUMPS factors the singular matrix without complaint; its residual gives it
+# away) stops with the input error.
+g="$work/parallel-gap"
+rm -rf "$g" && mkdir -p "$g" && cp "$src/tests/cli/inputs/held/block.geo" "$g/"
+sed -e 's/point: \[0, 0, 0\]/point: [0, 0, -1e-3]/' -e 's/^contact:/solver: {linear: direct}\ncontact:/' \
+  "$src/tests/cli/inputs/held/contact-held.yaml" >"$g/gap.yaml"
+mpi_expect "parallel: a body the surface does not reach, MUMPS on 2 ranks: exit 1 naming the cause" 1 \
+  "'boundary'.*relative residual.*not held against rigid-body motion" 2 -- run "$g/gap.yaml" --quiet
 # Issue 14 under mpirun: the refusals and the safety net are collective (every rank stops with
 # the same status, rank 0 reports).
 printf '%s\n' "mesh: {file: beam.geo}" "materials: [{E: 2.1e11, nu: 0.3, alpha: 1.2e-5}]" \
