@@ -405,6 +405,15 @@ def show_outline(simple, view, undeformed, crop=None):
     d.LineWidth = 1.5
 
 
+def component_name(n_comp, component):
+    """The name of a component of hencky's arrays: x, y, z of a vector, xx, yy, zz, xy, yz, xz
+    of a symmetric tensor (the order the fields files write), or the magnitude."""
+    if component is None:
+        return "magnitude"
+    names = {3: ["x", "y", "z"], 6: ["xx", "yy", "zz", "xy", "yz", "xz"]}.get(n_comp)
+    return names[component] if names else "component %d" % component
+
+
 def find_array(source, name):
     """('POINTS'|'CELLS', number of components) of the array, or None."""
     info = source.GetDataInformation()
@@ -556,7 +565,7 @@ def main():
         # Plain text only: ParaView 5.11's colour bar title shows "[" as "(" and drops "|".
         title = args.field
         if n_comp > 1:
-            title += " component %d" % args.component if args.component is not None else " magnitude"
+            title += " " + component_name(n_comp, args.component)
         if args.units:
             title += " (%s)" % args.units
         bar.Title = title
@@ -609,8 +618,7 @@ def main():
     simple.SaveScreenshot(args.out, view, ImageResolution=args.size, TransparentBackground=0)
     print("wrote %s (%s, t=%s, %s '%s'%s)" % (
         args.out, args.result, "-" if t is None else "%g" % t, assoc.lower()[:-1] + " array",
-        args.field, "" if n_comp == 1 else
-        (" component %d" % args.component if args.component is not None else " magnitude")))
+        args.field, "" if n_comp == 1 else " " + component_name(n_comp, args.component)))
     return 0
 
 

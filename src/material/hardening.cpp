@@ -496,9 +496,9 @@ void Hardening::warn_outside(const std::string& material, double T_min, double T
   for (const PropertyTable* p : {&yield_, &hardening_}) {
     if (p->left_by(T_min, T_max))
       log.warn_once("hardening-temperature:" + material + ":" + p->where.key,
-                    fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
-                                "leave the table of '{}' ({:g} .. {:g}); the end values are used "
-                                "outside it (warned once)",
+                    fmt::format("material '{}': the integration points' temperatures, {:.6g} .. "
+                                "{:.6g}, reach outside the table of '{}' ({:.6g} .. {:.6g}); "
+                                "its end values are used there (warned once)",
                                 material, T_min, T_max, p->where.key, p->temperature.front(),
                                 p->temperature.back()));
   }

@@ -29,9 +29,9 @@ void MaterialModel::warn_outside(double T_min, double T_max, Log& log) const {
   for (const PropertyTable* p : {&spec->E, &spec->nu, &spec->alpha}) {
     if (p->left_by(T_min, T_max))
       log.warn_once("table:" + p->where.key,
-                    fmt::format("material '{}': temperatures {:g} .. {:g} at integration points "
-                                "leave the table of '{}' ({:g} .. {:g}); the end values are used "
-                                "outside it (warned once)",
+                    fmt::format("material '{}': the integration points' temperatures, {:.6g} .. "
+                                "{:.6g}, reach outside the table of '{}' ({:.6g} .. {:.6g}); "
+                                "its end values are used there (warned once)",
                                 spec->name, T_min, T_max, p->where.key, p->temperature.front(),
                                 p->temperature.back()));
   }
