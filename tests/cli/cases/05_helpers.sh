@@ -82,6 +82,18 @@ ex_bad() {
   else ok "$name"; fi
 }
 
+# restart_same NAME CASE OUT FROM VTU: CASE restarted from its results OUT at t = FROM (into
+# OUT.restarted) ends on OUT's history.csv and VTU file bit for bit.
+restart_same() {
+  local name="$1" case="$2" out="$3" from="$4" vtu="$5"
+  expect "$name restarts from t = $from" 0 "" -- \
+    run "$case" --quiet --restart "$out" --from "$from" -o "$out.restarted"
+  if cmp -s "$out/history.csv" "$out.restarted/history.csv" &&
+     cmp -s "$out/$vtu" "$out.restarted/$vtu"; then
+    ok "$name: the restart from t = $from gives the run's history.csv and $vtu bit for bit"
+  else bad "$name: the restart from t = $from differs from the run"; fi
+}
+
 # --- The PETSc back end and mpirun (40_parallel.sh; 50, 55 and 60 use them too).
 cmp_py="$src/tests/tools/compare_results.py"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1

@@ -67,12 +67,7 @@ ex_check "report: on the turning path the largest yield excess is above 1e-3 (th
 # A report run restarts as it ran: ε̃^{e+p} and its largest value, the report's state, are in the
 # checkpoints.
 c="$d/turning-initial-strain"
-expect "report: turning, initial-strain restarts from t = 1" 0 "" -- \
-  run "$c.yaml" --quiet --restart "$c.out" --from 1 -o "$c.restarted"
-if cmp -s "$c.out/history.csv" "$c.restarted/history.csv" &&
-   cmp -s "$c.out/step_0009.vtu" "$c.restarted/step_0009.vtu"; then
-  ok "report: the restart from t = 1 gives the run's history.csv and last VTU bit for bit"
-else bad "report: the restart from t = 1 differs from the run"; fi
+restart_same "report: turning, initial-strain" "$c.yaml" "$c.out" 1 step_0009.vtu
 
 # Settings that would add one of hencky's strategies are refused by name.
 refuse() {  # refuse NAME SED-EXPRESSION PATTERN
