@@ -336,10 +336,11 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
                                   errno ? std::strerror(errno) : "the stream failed"));
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
   if (model_.has_heat()) final_values_["heat_flows"] = heat_json;
-  remember(report.time, values, report.yield_excess);
+  remember(report.time, values, report);
 }
 
-void ResultWriter::remember(double time, const StepValues& values, const YieldExcess& excess) {
+void ResultWriter::remember(double time, const StepValues& values, const StepReport& report) {
+  const YieldExcess& excess = report.yield_excess;
   // A later step's value counts only when it exceeds the peak by more than round-off (a
   // perfectly plastic point stays at σ_y to its last bits): the time is the first that reached it.
   const auto keep = [&](Peak& peak, const StepValues::Largest& now) {
@@ -348,6 +349,8 @@ void ResultWriter::remember(double time, const StepValues& values, const YieldEx
   keep(peak_von_mises_, values.von_mises);
   keep(peak_displacement_, values.displacement);
   keep(peak_eps_p_eq_, values.eps_p_eq);
+  const PointLargest& pv = report.point_von_mises;
+  if (pv.value > -INFINITY) keep(peak_point_von_mises_, {pv.value, pv.node, pv.x});
   // The first step whose excess is largest (none: the first plastic step, at 0).
   if (excess.value > -INFINITY && (peak_yield_excess_.at.value == -1 ||
                                    excess.value > std::max(peak_yield_excess_.at.value, 0.0)))
@@ -377,6 +380,7 @@ nlohmann::json ResultWriter::report() const {
   j["displacement"] = peak(peak_displacement_);
   if (peak_eps_p_eq_.at.value >= 0) j["equivalent_plastic_strain"] = peak(peak_eps_p_eq_);
   if (peak_yield_excess_.at.value >= 0) j["largest_yield_excess"] = peak(peak_yield_excess_);
+  if (peak_point_von_mises_.at.value >= 0) j["point_von_mises"] = peak(peak_point_von_mises_);
   j["balance"] = {{"time", balance_time_},
                   {"reactions", vec(balance_.supports)},
                   {"loads", vec(balance_.loads)},
@@ -402,6 +406,9 @@ std::vector<std::string> ResultWriter::report_lines() const {
   if (peak_eps_p_eq_.at.value >= 0)
     lines.push_back(fmt::format("largest equivalent plastic strain {:.4g} {}",
                                 peak_eps_p_eq_.at.value, where(peak_eps_p_eq_)));
+  if (peak_point_von_mises_.at.value >= 0)
+    lines.push_back(fmt::format("largest von Mises stress at an integration point {:.4g} {}",
+                                peak_point_von_mises_.at.value, where(peak_point_von_mises_)));
   if (peak_yield_excess_.at.value >= 0)
     lines.push_back(fmt::format("largest yield excess σ̃/σ̃_y − 1 {:.3g} {}",
                                 peak_yield_excess_.at.value, where(peak_yield_excess_)));

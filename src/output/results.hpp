@@ -72,7 +72,7 @@ class ResultWriter final : public StepObserver {
   void write_law_values(const std::vector<ProbeValues>& probe_row, nlohmann::json& probes);
   void write_history(const StepReport& report, const State& state, const StepValues& values);
   /// Keeps the run's largest values and the last balance (report()).
-  void remember(double time, const StepValues& values, const YieldExcess& excess);
+  void remember(double time, const StepValues& values, const StepReport& report);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;
@@ -80,7 +80,9 @@ class ResultWriter final : public StepObserver {
     StepValues::Largest at;
     double time = 0;
   };
-  Peak peak_von_mises_, peak_displacement_, peak_eps_p_eq_;
+  /// peak_point_von_mises_: of the integration points' stresses (the nodal field's is recovered:
+  /// extrapolated from them and averaged, and can stand far above them).
+  Peak peak_von_mises_, peak_displacement_, peak_eps_p_eq_, peak_point_von_mises_;
   /// The largest yield excess of the converged steps (value < 0 while none exceeds), and
   /// whether the model has plasticity (-inf: none).
   Peak peak_yield_excess_;

@@ -276,6 +276,7 @@ bool Equilibrium::admissible(const StepOutcome& out) const {
 /// The checks a converged iterate must pass before it is the answer of the step.
 void Equilibrium::accept(const State& c, State& trial, double scale, StepOutcome& out) {
   const auto& spec = m_.spec().solver;
+  out.point_von_mises = iterate_.points().largest_von_mises(trial);
   if (policy_.plastic) {
     out.yield_excess = iterate_.points().largest_excess();
     if (policy_.report && out.yield_excess.value > YieldExcess::slack)

@@ -38,6 +38,7 @@ struct StepOutcome {
   /// points above σ̃_y·(1 + YieldExcess::slack).
   YieldExcess yield_excess;
   int points_above = 0;
+  PointLargest point_von_mises;  ///< of the accepted state (accept)
   /// The step stopped because its residual diverged (IterationLimit::diverges): the step's best
   /// relative residual before it.
   bool diverged = false;

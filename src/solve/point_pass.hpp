@@ -111,6 +111,9 @@ class PointPass {
   /// The largest yield excess of the last pass with its point's place (node, position), the
   /// same on every rank. Collective.
   YieldExcess largest_excess() const;
+  /// The largest von Mises stress at the points of this model (every material) in `s`, with
+  /// its point's place, the same on every rank. Collective.
+  PointLargest largest_von_mises(const State& s) const;
   /// Warnings about the curves after a converged step: temperatures outside their tables,
   /// plastic strains beyond their last point. Collective.
   void check_curves(const State& s, Log& log) const;

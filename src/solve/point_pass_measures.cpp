@@ -48,22 +48,27 @@ void PointPass::measures(const State& trial, PointPassResult& r) const {
   r.points_above = static_cast<int>(par::sum(static_cast<long long>(r.points_above)));
 }
 
-YieldExcess PointPass::largest_excess() const {
+namespace {
+/// The largest of value(p) over the points p that `each` visits on this rank (each(f) calls
+/// f(p) for them), with its point's place, the same on every rank. Collective.
+template <class Each, class Value>
+PointLargest largest_at_points(const Model& m, Each&& each, Value&& value) {
   // This rank's largest: value, node, position (the point in the undeformed mesh).
   std::array<double, 5> mine = {-INFINITY, 0, 0, 0, 0};
-  const auto& mesh = m_.mesh();
-  for_plastic_points([&](int p) {
-    if (!(excess_[p] > mine[0])) return;
-    mine[0] = excess_[p];
+  const auto& mesh = m.mesh();
+  each([&](int p) {
+    const double v = value(p);
+    if (!(v > mine[0])) return;
+    mine[0] = v;
     mine[4] = p;  // the point, placed below
   });
   if (mine[0] > -INFINITY) {
     const int p = static_cast<int>(mine[4]);
     int e = 0;
-    while (m_.point_offset(e + 1) <= p) ++e;
+    while (m.point_offset(e + 1) <= p) ++e;
     const auto nodes = mesh.cells.nodes(e);
     const ReferenceTable& tab = reference_table(mesh.cells.type[e]);
-    const double* N = &tab.N[static_cast<std::size_t>(p - m_.point_offset(e)) * tab.n_nodes];
+    const double* N = &tab.N[static_cast<std::size_t>(p - m.point_offset(e)) * tab.n_nodes];
     Vec3 x = Vec3::Zero();
     for (std::size_t a = 0; a < nodes.size(); ++a) x += N[a] * mesh.x[nodes[a]];
     int nearest = nodes[0];
@@ -81,11 +86,28 @@ YieldExcess PointPass::largest_excess() const {
     if (theirs[0] > best[0]) best = theirs;
   }
   par::broadcast(std::span<double>(best));
-  YieldExcess y;
+  PointLargest y;
   y.value = best[0];
   y.node = std::lround(best[1]);
   y.x = Vec3(best[2], best[3], best[4]);
   return y;
+}
+}  // namespace
+
+YieldExcess PointPass::largest_excess() const {
+  YieldExcess y;
+  static_cast<PointLargest&>(y) = largest_at_points(
+      m_, [&](auto&& f) { for_plastic_points(f); }, [&](int p) { return excess_[p]; });
+  return y;
+}
+
+PointLargest PointPass::largest_von_mises(const State& s) const {
+  const auto each = [&](auto&& f) {
+    for (int e = 0; e < m_.mesh().cells.size(); ++e)
+      if (mine(e))
+        for (int p = m_.point_offset(e); p < m_.point_offset(e + 1); ++p) f(p);
+  };
+  return largest_at_points(m_, each, [&](int p) { return von_mises(s.stress[p]); });
 }
 
 /// Warnings about the curves after a converged step: temperatures outside their tables,

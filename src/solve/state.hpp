@@ -67,13 +67,18 @@ struct StepTarget {
   int depth = 0;
 };
 
-/// The largest relative excess σ̃/σ̃_y − 1 of the von Mises stress over the yield stress at the
-/// integration points of plastic materials (the admissibility of a state), with the cell's node
-/// nearest that point (its file number) and the point's position in the undeformed mesh.
-struct YieldExcess {
-  double value = -INFINITY;  ///< −inf: no plastic material
+/// The largest of a value over the integration points, with the cell's node nearest that point
+/// (its file number) and the point's position in the undeformed mesh.
+struct PointLargest {
+  double value = -INFINITY;  ///< −inf: no point
   long node = 0;
   Vec3 x = Vec3::Zero();
+};
+
+/// The largest relative excess σ̃/σ̃_y − 1 of the von Mises stress over the yield stress at the
+/// integration points of plastic materials (the admissibility of a state; −inf: no plastic
+/// material).
+struct YieldExcess : PointLargest {
   /// The slack of the check σ̃ ≤ σ̃_y·(1 + slack): round-off of the curves' own evaluation, far
   /// below any tolerance a step converges to.
   static constexpr double slack = 1e-6;
@@ -89,6 +94,7 @@ struct StepReport {
   int factorizations = 0;  ///< matrix factorizations in this step (cut-back attempts included)
   int plastic_points = 0;  ///< integration points that flowed plastically in this step
   YieldExcess yield_excess;  ///< of the committed state
+  PointLargest point_von_mises;  ///< the committed state's largest von Mises stress at a point
   bool last = false;       ///< the final step of the analysis
   /// The step's fields are written (every output.every-th step and the last): the recovered
   /// fields then hold the cells' values too.

@@ -223,6 +223,7 @@ class StepLoop {
     report.factorizations = eq_.factorizations() - factorizations_before_;
     report.plastic_points = out.plastic_points;
     report.yield_excess = out.yield_excess;
+    report.point_von_mises = out.point_von_mises;
     report.last = last;
     report.write_fields = report.last || report.step % model_.spec().output.every == 0;
     factorizations_before_ = eq_.factorizations();

@@ -20,6 +20,14 @@ else bad "admissible: the guard did not act on the loose initial-strain run" "$(
 ex_check "admissible: ... and the accepted states lie within 1e-6 of it" "$d/loose.out/summary.json" \
   "0 <= s['report']['largest_yield_excess']['value'] <= 1e-6"
 
+# The points' own stresses in the report (issue 47: the recovered nodal von Mises can stand far
+# above them): NL1's perfectly plastic point carries σ_y exactly.
+sed -E "s/^  steps: 80$/  steps: 16/" "$src/tests/cli/inputs/nl1/case.yaml" > "$d/nl1.yaml"
+expect "admissible: NL1, perfectly plastic" 0 "report: largest von Mises stress at an integration point 5e\+06" \
+  -- run "$d/nl1.yaml" -o "$d/nl1.out"
+ex_check "admissible: ... report.point_von_mises is sigma_y to 1e-12" "$d/nl1.out/summary.json" \
+  "close(s['report']['point_von_mises']['value'], 5e6, 1e-12)"
+
 if out="$("$ex_py" - "$work" <<'PY'
 import json, os, sys
 plastic = hencky = 0
