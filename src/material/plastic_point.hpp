@@ -47,6 +47,10 @@ struct Tangent {
   double coef = 0;
   Voigt v = Voigt::Zero();
 
+  /// The same matrix to the bit (a point's matrix changed, and the system is assembled again).
+  bool operator==(const Tangent& o) const {
+    return dev_scale == o.dev_scale && coef == o.coef && v == o.v;
+  }
   /// The full matrix, for tests and small problems.
   Mat6 matrix(const ElasticConstants& k) const;
   /// Lamé constants of the isotropic part D + dev_scale·2G·I_dev.

@@ -209,8 +209,7 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
   std::atomic<int> undefined_cell{-1}, negative_secant_cell{-1}, inverted_cell{-1};
   // The point's matrix for the next solve; a change is what makes the step loop assemble again.
   auto set_tangent = [&](int p, const Tangent& t) {
-    const Tangent& old = tangent_[p];
-    if (old.dev_scale == t.dev_scale && old.coef == t.coef && old.v == t.v) return;
+    if (tangent_[p] == t) return;
     tangent_[p] = t;
     changed.store(true, std::memory_order_relaxed);
   };

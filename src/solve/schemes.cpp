@@ -49,6 +49,9 @@ PointUpdate Scheme::evaluate_initial(const ElasticConstants&, const PointStep&,
 }
 
 double Scheme::yield_stress(const PointStep& ps, double eps_p, double, double) const {
+  // A point that did not flow in the step keeps the yield stress of its step's curve: no
+  // evaluation of the curve at most points of most iterates.
+  if (eps_p == ps.curve.eps_p) return ps.curve.yield_now;
   return ps.curve.hardening->plastic(std::max(eps_p, 0.0), ps.curve.temperature).value;
 }
 

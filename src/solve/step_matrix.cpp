@@ -33,13 +33,7 @@ bool StepMatrix::needs_elements(int iteration, int first_iteration, bool tangent
   // first solve takes (StepStart::at_start: it does not depend on the iterate), unless the
   // points' matrices it was made of changed since.
   if (iteration == 0 && start_factorized_) {
-    const auto& now = iterate_.points().tangents();
-    bool same = now.size() == assembled_tangents_.size();
-    for (std::size_t p = 0; same && p < now.size(); ++p) {
-      const Tangent &a = now[p], &b = assembled_tangents_[p];
-      same = a.dev_scale == b.dev_scale && a.coef == b.coef && a.v == b.v;
-    }
-    if (same) return false;
+    if (iterate_.points().tangents() == assembled_tangents_) return false;
   }
   return !factorized_ || (iteration == 0 && (changes_with_temperature_ || updated_)) ||
          (updated_ && policy == MatrixPolicy::per_iteration) ||
