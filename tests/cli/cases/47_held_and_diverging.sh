@@ -30,6 +30,13 @@ done
 [ -e "$h/rotation-free.out" ] && bad "held: the refused run wrote an output directory" || ok "held: the refused run wrote nothing"
 sed -e 's/{region: x0, displacement: {x: 0}}/{region: x0, displacement: {x: 0, y: 0}}/' "$h/rotation-free.yaml" > "$h/held.yaml"
 expect "held: the same bar with u_y held at its end runs" 0 "" -- run "$h/held.yaml" --quiet
+# A free motion about no coordinate axis: the turned block may tip over the bottom edge of its
+# oblique side, along (-1, 1, 0)/sqrt(2) through the origin (the nearest point of that axis to the
+# block's centre is (-0.354, 0.354, 0)). Before, this input crashed `check` (SIGSEGV in the
+# description of such a motion).
+expect "held: a block free to tip over an oblique edge is refused, naming that axis" 1 \
+  "leave 1 rigid motion free: rotation about the axis through \(-0\.35[0-9]*, 0\.35[0-9]*, 0\) along \((-0\.7071, 0\.7071|0\.7071, -0\.7071), 0\)\." \
+  -- check "$h/tilt-free.yaml"
 # The thick-cylinder slice held by its x symmetry plane alone (a regression: it had run 250
 # iterations for 165 s since the node-graph ordering, and stopped with status 2).
 c="$h/slice"
