@@ -39,7 +39,7 @@ const std::vector<std::string> convection_keys = {"h", "ambient"};
 const std::vector<std::string> radiation_keys = {"emissivity", "ambient"};
 const std::vector<std::string> analyses = {"steady", "transient"};
 
-const KeySection sections[] = {
+const KeySection heat_key_sections[] = {
     {"heat", &heat_keys},
     {"heat.boundary[i]", &heat_boundary_keys},
     {"heat.boundary[i].convection", &convection_keys},
@@ -107,7 +107,7 @@ HeatBoundarySpec read_heat_condition(const Reader& r, const Val& item) {
 }  // namespace
 
 std::span<const KeySection> heat_sections() {
-  return sections;
+  return heat_key_sections;
 }
 
 HeatSpec read_heat(const Reader& r, const Val& v, const StepTimes& mechanical) {

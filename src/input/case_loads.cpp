@@ -17,7 +17,7 @@ const std::vector<std::string> boundary_keys = {"region", "displacement", "press
 const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force"};
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 
-const KeySection sections[] = {
+const KeySection load_key_sections[] = {
     {"temperature", &temperature_keys},
     {"boundary[i]", &boundary_keys},
     {"boundary[i].displacement", &xyz_keys},
@@ -26,7 +26,7 @@ const KeySection sections[] = {
 }  // namespace
 
 std::span<const KeySection> load_sections() {
-  return sections;
+  return load_key_sections;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ const std::vector<std::string> material_keys = {"name",         "regions", "E",
                                                 "conductivity", "density", "specific_heat"};
 const std::vector<std::string> table_keys = {"temperature", "value"};
 
-const KeySection sections[] = {
+const KeySection mesh_material_key_sections[] = {
     {"mesh", &mesh_keys},
     {"materials[i]", &material_keys},
 };
@@ -28,7 +28,7 @@ const KeySection sections[] = {
 }  // namespace
 
 std::span<const KeySection> mesh_material_sections() {
-  return sections;
+  return mesh_material_key_sections;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -37,7 +37,7 @@ const std::vector<std::string> output_keys = {
     "iterations"};
 const std::vector<std::string> probe_keys = {"name", "point"};
 
-const KeySection sections[] = {
+const KeySection solver_output_key_sections[] = {
     {"solver", &solver_keys},
     {"output", &output_keys},
     {"output.probes[i]", &probe_keys},
@@ -174,7 +174,7 @@ void read_petsc_options(const Reader& r, const Val& x, SolverSpec& s) {
 }  // namespace
 
 std::span<const KeySection> solver_output_sections() {
-  return sections;
+  return solver_output_key_sections;
 }
 
 SolverSpec read_solver(const Reader& r, const std::optional<Val>& v) {

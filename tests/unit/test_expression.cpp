@@ -28,7 +28,7 @@ std::string parse_error(const std::string& text) {
   return "";
 }
 
-bool has(const std::string& s, const std::string& part) {
+bool mentions(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;
 }
 
@@ -146,34 +146,34 @@ TEST(Expression, CopiesAreIndependent) {
 
 TEST(Expression, SyntaxErrorsNameTheLocation) {
   const std::string m = parse_error("1 + ");
-  EXPECT_TRUE(has(m, "case.yaml:7:15")) << m;
-  EXPECT_TRUE(has(m, "'boundary[1].pressure'")) << m;
-  EXPECT_TRUE(has(m, "\"1 +\"")) << m;
-  EXPECT_TRUE(has(m, "Unexpected end of expression")) << m;  // muparser's own message
-  EXPECT_TRUE(has(parse_error("(x + 1"), "parenthesis")) << parse_error("(x + 1");
+  EXPECT_TRUE(mentions(m, "case.yaml:7:15")) << m;
+  EXPECT_TRUE(mentions(m, "'boundary[1].pressure'")) << m;
+  EXPECT_TRUE(mentions(m, "\"1 +\"")) << m;
+  EXPECT_TRUE(mentions(m, "Unexpected end of expression")) << m;  // muparser's own message
+  EXPECT_TRUE(mentions(parse_error("(x + 1"), "parenthesis")) << parse_error("(x + 1");
 }
 
 TEST(Expression, UnknownNamesGetSuggestions) {
   std::string m = parse_error("sn(x)");
-  EXPECT_TRUE(has(m, "Unexpected token \"sn\"")) << m;
-  EXPECT_TRUE(has(m, "did you mean 'sin'?")) << m;
+  EXPECT_TRUE(mentions(m, "Unexpected token \"sn\"")) << m;
+  EXPECT_TRUE(mentions(m, "did you mean 'sin'?")) << m;
   m = parse_error("200e6*tt");
-  EXPECT_TRUE(has(m, "did you mean 't'?")) << m;
+  EXPECT_TRUE(mentions(m, "did you mean 't'?")) << m;
   m = parse_error("u + 1");
-  EXPECT_TRUE(has(m, "Unexpected token \"u\"")) << m;
-  EXPECT_TRUE(has(m, "variables: x, y, z, t")) << m;
+  EXPECT_TRUE(mentions(m, "Unexpected token \"u\"")) << m;
+  EXPECT_TRUE(mentions(m, "variables: x, y, z, t")) << m;
   m = parse_error("pi*x");
-  EXPECT_TRUE(has(m, "did you mean '_pi'?")) << m;
+  EXPECT_TRUE(mentions(m, "did you mean '_pi'?")) << m;
 }
 
 TEST(Expression, OtherErrors) {
-  EXPECT_TRUE(has(parse_error(""), "empty")) << parse_error("");
-  EXPECT_TRUE(has(parse_error("x = 1"), "use '=='")) << parse_error("x = 1");
+  EXPECT_TRUE(mentions(parse_error(""), "empty")) << parse_error("");
+  EXPECT_TRUE(mentions(parse_error("x = 1"), "use '=='")) << parse_error("x = 1");
   EXPECT_EQ(parse_error("x == 1"), "");
   EXPECT_EQ(parse_error("x <= 1"), "");
-  EXPECT_TRUE(has(parse_error("1, 2"), "single value")) << parse_error("1, 2");
-  EXPECT_TRUE(has(parse_error("1/0"), "finite")) << parse_error("1/0");
-  EXPECT_TRUE(has(parse_error("sqrt(-1)"), "finite")) << parse_error("sqrt(-1)");
+  EXPECT_TRUE(mentions(parse_error("1, 2"), "single value")) << parse_error("1, 2");
+  EXPECT_TRUE(mentions(parse_error("1/0"), "finite")) << parse_error("1/0");
+  EXPECT_TRUE(mentions(parse_error("sqrt(-1)"), "finite")) << parse_error("sqrt(-1)");
   EXPECT_EQ(parse_error("1/x"), "");  // infinite at the origin only: fine at parse time
 }
 
@@ -185,11 +185,11 @@ TEST(Expression, EvalChecked) {
     FAIL() << "expected an InputError";
   } catch (const InputError& err) {
     const std::string m = err.what();
-    EXPECT_TRUE(has(m, "case.yaml:7:15")) << m;
-    EXPECT_TRUE(has(m, "pressure")) << m;
-    EXPECT_TRUE(has(m, "\"sqrt(x)\"")) << m;
-    EXPECT_TRUE(has(m, "x=-1")) << m;
-    EXPECT_TRUE(has(m, "t=0.5")) << m;
+    EXPECT_TRUE(mentions(m, "case.yaml:7:15")) << m;
+    EXPECT_TRUE(mentions(m, "pressure")) << m;
+    EXPECT_TRUE(mentions(m, "\"sqrt(x)\"")) << m;
+    EXPECT_TRUE(mentions(m, "x=-1")) << m;
+    EXPECT_TRUE(mentions(m, "t=0.5")) << m;
   }
   EXPECT_THROW(P("1/x").eval_checked(0, 0, 0, 0, "traction"), InputError);
   EXPECT_TRUE(std::isinf(P("1/x")(0, 0, 0, 0)));  // operator() does not check
