@@ -30,20 +30,35 @@ bash "$here/scripts/sanitize.sh" --build-only >"$build/fuzz-build.log" 2>&1 ||
 . "$here/scripts/sanitize-env.sh"
 
 scratch="$(mktemp -d)"; trap 'rm -rf "$scratch"' EXIT
-failed=()
-printf '%-16s %12s %8s %10s %s\n' target executions seconds exec/s corpus
-for t in "${targets[@]}"; do
-  seeds="$here/fuzz/corpus/$t"
-  artifacts="$build/fuzz-artifacts/$t"
+# One target: its libFuzzer run, its log in $scratch/TARGET.log, "ok" or "FAILED" in .status.
+fuzz_one() {
+  local t="$1" seeds="$here/fuzz/corpus/$1" artifacts="$build/fuzz-artifacts/$1" work args
   mkdir -p "$artifacts"
   if [ "$mode" = --smoke ]; then work="$scratch/$t"; else work="$build/fuzz-work/$t"; fi
   mkdir -p "$work"
   args=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1
         -artifact_prefix="$artifacts/")
   [ -f "$here/fuzz/$t.dict" ] && args+=(-dict="$here/fuzz/$t.dict")
-  log="$scratch/$t.log"
   # New inputs go to the first folder, the work corpus; the seeds are only read.
-  if "$build/fuzz/fuzz_$t" "${args[@]}" "$work" "$seeds" >"$log" 2>&1; then status=ok; else status=FAILED; fi
+  if "$build/fuzz/fuzz_$t" "${args[@]}" "$work" "$seeds" >"$scratch/$t.log" 2>&1; then
+    echo ok >"$scratch/$t.status"
+  else
+    echo FAILED >"$scratch/$t.status"
+  fi
+}
+# As many targets at a time as there are cores (each libFuzzer run is one process); the
+# results are printed in the targets' order once all have run.
+for t in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
+  fuzz_one "$t" &
+done
+wait
+failed=()
+printf '%-16s %12s %8s %10s %s\n' target executions seconds exec/s corpus
+for t in "${targets[@]}"; do
+  artifacts="$build/fuzz-artifacts/$t"
+  log="$scratch/$t.log"
+  status="$(cat "$scratch/$t.status" 2>/dev/null || echo FAILED)"
   runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)"
   units="$(sed -n 's/.*\bcorp: \([0-9]*\)\/.*/\1/p' "$log" | tail -1)"
   time="$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)"

@@ -4,6 +4,8 @@
 #   CASE: names of tests/cli/cases/*.sh without .sh; `only` runs those, `except` all others
 #   (ctest runs the suite as two such halves side by side). 05_helpers is always read.
 #   HENCKY_CLI_SKIP (environment): case names left out as well.
+#   HENCKY_CLI_TIMES (environment): a file to which each command's wall seconds are appended,
+#   "seconds<TAB>case<TAB>check" (to find what makes the suite slow).
 #   HENCKY_CLI_KEEP (environment): a folder to run in and keep (it must not exist), so that the
 #   outputs of two binaries can be compared (tests/tools/compare_trees.py); else a temporary one.
 set -u
@@ -27,8 +29,13 @@ bad()  { fail=$((fail+1)); echo "FAIL $1"; [ -n "${2:-}" ] && echo "$2" | sed 's
 # the combined output matches the extended regular expression.
 expect_cmd() {
   local name="$1" status="$2" pattern="$3"; shift 4
-  local out rc
+  local out rc t0="${EPOCHREALTIME/./}"
   out="$("$@" 2>&1)"; rc=$?
+  if [ -n "${HENCKY_CLI_TIMES:-}" ]; then
+    local us=$(( ${EPOCHREALTIME/./} - t0 ))
+    printf '%d.%02d\t%s\t%s\n' $((us / 1000000)) $((us % 1000000 / 10000)) "${case_name:-}" "$name" \
+      >> "$HENCKY_CLI_TIMES"
+  fi
   if [ "$rc" -ne "$status" ]; then bad "$name: exit $rc, expected $status" "$out"; return; fi
   if [ -n "$pattern" ] && ! grep -Eq -- "$pattern" <<<"$out"; then
     bad "$name: output does not match /$pattern/" "$out"; return
