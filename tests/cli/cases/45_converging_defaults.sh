@@ -101,8 +101,10 @@ ex_check "indentation-unload, newton: the ball has left the dent at t = 1.5 (no 
 # step's start (the report's Z(t)): the dent was 2.8 % from newton's, the stress at the contact
 # edge 23-41 %, and variable-stiffness converged or stalled in the unloading with the rounding
 # of the BLAS kernels (status 2 with OpenBLAS's Haswell and Zen kernels). It is run here with
-# two kernels' rounding: Prescott's (SSE3, any x86-64) and, where the CPU has AVX2, Haswell's
-# (what an AMD EPYC gets).
+# the kernels' roundings the CPU can run: Prescott's (SSE3, any x86-64) and, with AVX2,
+# Haswell's for the three schemes; variable-stiffness, the one that stalled, also with Zen's and,
+# with AVX-512, SkylakeX's (issue 47: the whole issue-16 table converges alike under the four,
+# bench/results/issue47-blas-kernels.md).
 h_newton="$h"
 same_dent() { # $1 $2: two history.csv; the last centre displacement agrees to 1e-5
   "$ex_py" - "$1" "$2" <<'PY'
@@ -115,7 +117,13 @@ PY
 cores=Prescott
 grep -qw avx2 /proc/cpuinfo && cores="$cores Haswell"
 for scheme in initial-stress variable-stiffness variable-stiffness/strain; do
-  for core in $cores; do
+  more=""
+  if [ "$scheme" = variable-stiffness ]; then
+    grep -qw avx2 /proc/cpuinfo && more=" Zen"
+    grep -w avx512f /proc/cpuinfo | grep -w avx512bw | grep -w avx512dq | grep -qw avx512vl &&
+      more="$more SkylakeX"
+  fi
+  for core in $cores$more; do
     OPENBLAS_CORETYPE=$core cv_run indentation-unload "$scheme"
     if same_dent "$h_newton" "$h"; then ok "indentation-unload, $scheme ($core kernels): newton's dent to 1e-5"; else bad "indentation-unload, $scheme ($core kernels): the dent is not newton's"; fi
   done

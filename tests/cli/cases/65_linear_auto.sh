@@ -71,12 +71,34 @@ ex_check "auto, linear: direct: summary names CHOLMOD" "$la_dir/direct.out/summa
 # HENCKY_BLAS_KERNELS=keep they are OpenBLAS's own choice, and a user's OPENBLAS_CORETYPE wins.
 la_kernels() { "$ex_py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["linear_solver"].get("blas_kernels", ""))' "$1"; }
 k_default="$(la_kernels "$la_dir/default.out/summary.json")"
-if ! grep -qw avx2 /proc/cpuinfo || [ -z "$k_default" ]; then
+if [ -n "${OPENBLAS_CORETYPE:-}" ]; then
+  # The user's choice is kept (no restart): the kernels are the ones asked for.
+  if [ "${k_default,,}" = "${OPENBLAS_CORETYPE,,}" ]; then
+    ok "blas kernels: OPENBLAS_CORETYPE=$OPENBLAS_CORETYPE of the environment is kept"
+  else
+    bad "blas kernels: OPENBLAS_CORETYPE=$OPENBLAS_CORETYPE in the environment, but '$k_default' in use"
+  fi
+elif ! grep -qw avx2 /proc/cpuinfo || [ -z "$k_default" ]; then
   ok "blas kernels: no AVX2 or not OpenBLAS here ('$k_default'), nothing to check"
 elif grep -Eqix "prescott|core2|penryn|dunnington|nehalem|atom|sandybridge" <<<"$k_default"; then
   bad "blas kernels: OpenBLAS runs '$k_default' on a CPU with AVX2"
 else
   ok "blas kernels: '$k_default' on a CPU with AVX2"
+fi
+# The restart itself, wherever OpenBLAS knows the CPU: HENCKY_BLAS_TEST_CHOSEN makes the first
+# start see the fallback's name (linalg/blas_kernels.cpp), as on the Xeon (model 207) that
+# Debian 12's OpenBLAS does not know. Without the environment's OPENBLAS_CORETYPE, which would
+# keep the kernels.
+if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo && [ -n "$k_default" ]; then
+  expect_cmd "blas kernels, the fallback on a CPU with AVX2: runs" 0 "" -- env -u OPENBLAS_CORETYPE \
+    HENCKY_BLAS_TEST_CHOSEN=Prescott "$bin" run "$la_dir/case.yaml" -o "$la_dir/restart.out" --quiet
+  expect_cmd "blas kernels, the fallback: hencky started again with better kernels, and says so" 0 \
+    "^BLAS: OpenBLAS took its 'Prescott' kernels for this CPU \(a model it does not know\); hencky started again with OPENBLAS_CORETYPE=(SkylakeX|Haswell) \(now '(SkylakeX|Haswell)'" \
+    -- cat "$la_dir/restart.out/hencky.log"
+  ex_check "blas kernels, the fallback: the summary names the kernels of the second start" \
+    "$la_dir/restart.out/summary.json" 's["linear_solver"]["blas_kernels"] in ("SkylakeX", "Haswell")'
+else
+  ok "blas kernels: no AVX2 or not OpenBLAS here, the restart is not checked"
 fi
 expect_cmd "blas kernels, keep: runs" 0 "" -- env HENCKY_BLAS_KERNELS=keep \
   "$bin" run "$la_dir/case.yaml" -o "$la_dir/keep.out" --quiet
