@@ -20,6 +20,8 @@
 
 #include "core/log.hpp"
 #include "hencky/version.hpp"
+#include "input/gmsh_child.hpp"
+#include "input/gmsh_reader.hpp"
 #include "input/load_case.hpp"
 #include "linalg/blas_kernels.hpp"
 #include "parallel/mpi.hpp"
@@ -175,6 +177,11 @@ std::vector<std::string> plot_arguments(const Words& w) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Gmsh's work runs in a child process, which is this program started with gmsh_child::marker
+  // (input/gmsh_child.hpp): a crash inside Gmsh is then an input error, not the end of the run.
+  run_gmsh_in_child_processes();
+  if (argc > 1 && std::strcmp(argv[1], gmsh_child::marker) == 0)
+    return gmsh_child::child_main(argc, argv);
   // First of all: it may start the process again (before any other work is done).
   restart_with_better_blas_kernels(argv);
   CLI::App app{"hencky: thermo-elastic finite-element analysis of 3D structures"};

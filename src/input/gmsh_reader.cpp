@@ -12,6 +12,7 @@
 #include <unordered_set>
 
 #include "core/error.hpp"
+#include "input/gmsh_child.hpp"
 #include "input/gmsh_library.hpp"
 #include "input/msh_data.hpp"
 #include "input/msh_reader.hpp"
@@ -96,8 +97,8 @@ MshData model_data() {
 
 /// Opens `file` in the Gmsh library, meshes it when it is a geometry, converts the element
 /// order when asked, and returns the model.
-MshData through_gmsh(const std::filesystem::path& file, bool geometry,
-                     const MeshReadOptions& options, std::vector<std::string>* gmsh_log) {
+MshData through_gmsh(const std::filesystem::path& file, bool geometry, int order,
+                     std::vector<std::string>* gmsh_log) {
   const SourceLocation where{file.string(), 0, 0, ""};
   const std::function<InputError(const std::string&)> fail = [&](const std::string& msg) {
     return InputError(where, msg);
@@ -125,10 +126,10 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry,
       if (!geometry) throw fail("the mesh has no 3D elements (hencky needs a volume mesh)");
       mesh_without_throwing([] { gmsh::generate(3); }, fail, "Gmsh cannot mesh this geometry: ");
     }
-    if (options.order == 1 || options.order == 2) {
+    if (order == 1 || order == 2) {
       // Serendipity (20-node) hexahedra and 8-node quadrilaterals, as hencky supports those.
       gmsh::set_number("Mesh.SecondOrderIncomplete", 1);
-      mesh_without_throwing([&] { gmsh::set_order(options.order); }, fail,
+      mesh_without_throwing([&] { gmsh::set_order(order); }, fail,
                             "Gmsh cannot convert the element order: ");
     }
     return model_data();
@@ -141,7 +142,18 @@ MshData through_gmsh(const std::filesystem::path& file, bool geometry,
   }
 }
 
+/// through_gmsh, in a child process where the program has enabled it (gmsh_child.hpp).
+MshData gmsh_step(const std::filesystem::path& file, bool geometry, int order,
+                  std::vector<std::string>* gmsh_log) {
+  if (gmsh_child::enabled()) return gmsh_child::run(file, geometry, order, gmsh_log);
+  return through_gmsh(file, geometry, order, gmsh_log);
+}
+
 }  // namespace
+
+void run_gmsh_in_child_processes() {
+  gmsh_child::enable(through_gmsh);
+}
 
 Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options,
                std::vector<std::string>* gmsh_log) {
@@ -155,7 +167,7 @@ Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options
                      "one file of a split mesh is read as it is: a .msh, without an order "
                      "conversion (convert the order before Gmsh splits the mesh)");
   if (ext == ".geo")
-    return to_mesh(through_gmsh(file, true, options, gmsh_log), options, file.string());
+    return to_mesh(gmsh_step(file, true, options.order, gmsh_log), options, file.string());
   // A .msh file is read by hencky's own reader, which refuses malformed files that would crash
   // Gmsh's. Only an order conversion needs the Gmsh library, and then only for a file that
   // reader accepted. (Gmsh's conversion renumbers the mid-edge nodes even of a file that has
@@ -171,7 +183,7 @@ Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options
                                  data.piece, data.partitions, options.piece_number, options.pieces,
                                  options.piece_number, options.pieces));
   if (options.through_gmsh_library || options.order == 1 || options.order == 2)
-    data = through_gmsh(file, false, options, gmsh_log);
+    data = gmsh_step(file, false, options.order, gmsh_log);
   return to_mesh(data, options, file.string());
 }
 

@@ -32,6 +32,12 @@ struct MeshReadOptions {
 Mesh read_gmsh(const std::filesystem::path& file, const MeshReadOptions& options,
                std::vector<std::string>* gmsh_log = nullptr);
 
+/// From now on, Gmsh's part of read_gmsh (meshing a .geo, converting an element order) runs in
+/// a child process, where a crash inside Gmsh is an input error naming the file
+/// (input/gmsh_child.hpp). For hencky's main(), which also hands the child's start to
+/// gmsh_child::child_main; other programs run Gmsh in their own process.
+void run_gmsh_in_child_processes();
+
 /// The whole mesh of the files Gmsh split a mesh into (`-part N -part_split`), each read as a
 /// piece (MeshReadOptions::piece; `options.scale` applies). Its order is the one the ranks'
 /// parts give it when each rank reads one file (parallel/mesh_part.hpp, part_of_piece), so that

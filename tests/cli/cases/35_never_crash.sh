@@ -132,3 +132,29 @@ expect "issue 14: --threads 0 is refused (exit 1)" 1 "^error: '--threads': expec
 expect "issue 14: --threads -1 is refused (exit 1)" 1 "^error: '--threads': expected a number of threads >= 1, found -1" -- \
   run "$cd_/plain.yaml" -o "$cd_/threads0.out" --threads -1
 [ ! -e "$cd_/threads0.out" ] && ok "issue 14: ... and nothing is written" || bad "issue 14: --threads 0 wrote $cd_/threads0.out"
+
+# --- Issue 47: Gmsh's meshing and order conversion run in a child process (input/gmsh_child.hpp),
+#     so that a crash inside Gmsh (a SIGSEGV on a degenerate geometry, in Gmsh's own threads)
+#     is an input error naming the file. The test hook makes the child abort as such a crash
+#     would; before, the crash ended hencky itself.
+expect_cmd "issue 47: Gmsh crashing while meshing a .geo is an input error naming the file (check)" 1 \
+  "^error: $cd_/beam\.geo: Gmsh crashed \(signal 6 \(Aborted\)\) while meshing this geometry: a degenerate geometry" -- \
+  env HENCKY_TEST_GMSH_CHILD_ABORT=1 "$bin" check "$cd_/plain.yaml"
+expect_cmd "issue 47: ... and in run, which writes nothing" 1 "^error: $cd_/beam\.geo: Gmsh crashed" -- \
+  env HENCKY_TEST_GMSH_CHILD_ABORT=1 "$bin" run "$cd_/plain.yaml" -o "$cd_/gmsh-crash.out"
+[ ! -e "$cd_/gmsh-crash.out" ] && [ -z "$(ls -d "$cd_"/gmsh-crash.out.partial-* 2>/dev/null)" ] &&
+  ok "issue 47: ... no output directory is left" || bad "issue 47: a Gmsh crash left an output directory"
+"$bin" run "$cd_/plain.yaml" -o "$cd_/plain.out" --quiet >/dev/null 2>&1 ||
+  bad "issue 47: the beam did not run"
+gmsh -3 -format msh41 "$cd_/beam.geo" -o "$cd_/beam.msh" >/dev/null 2>&1 ||
+  bad "issue 47: gmsh could not write beam.msh"
+crash_case order2
+sed -i -e 's/beam\.geo/beam.msh/' -e 's/^mesh: {file: beam.msh}$/mesh: {file: beam.msh, order: 2}/' \
+  "$cd_/order2.yaml"
+expect_cmd "issue 47: Gmsh crashing while converting a .msh's order is an input error naming it" 1 \
+  "^error: $cd_/beam\.msh: Gmsh crashed \(signal 6 \(Aborted\)\) while converting the element order" -- \
+  env HENCKY_TEST_GMSH_CHILD_ABORT=1 "$bin" check "$cd_/order2.yaml"
+expect "issue 47: ... without the hook the conversion runs" 0 "" -- run "$cd_/order2.yaml" \
+  -o "$cd_/order2.out" --quiet
+expect_cmd "issue 47: ... to 20-node hexahedra" 0 "^mesh: [0-9]+ nodes, 4 elements \(4 20-node hexahedron\)" -- \
+  cat "$cd_/order2.out/hencky.log"
