@@ -63,11 +63,16 @@ class SolveError : public std::runtime_error {
 class LinearSystemError : public SolveError {
  public:
   enum class Kind { singular, not_positive_definite, diverged, failed };
-  LinearSystemError(Kind kind, const std::string& what) : SolveError(what), kind_(kind) {}
+  /// `equation`: the unknown, in the system's numbering, where a factorization met a pivot
+  /// that is not positive (-1: unknown), for the message to say where.
+  LinearSystemError(Kind kind, const std::string& what, long equation = -1)
+      : SolveError(what), kind_(kind), equation_(equation) {}
   Kind kind() const { return kind_; }
+  long equation() const { return equation_; }
 
  private:
   Kind kind_;
+  long equation_;
 };
 
 /// The linear solver cannot be set up with the options it was given (a PETSc option that does

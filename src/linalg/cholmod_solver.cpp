@@ -65,10 +65,18 @@ class CholmodSolver final : public SparseSolver {
     cholmod_sparse a = view(values.data());
     cholmod_l_factorize(&a, factor_, &common_);
     ++stats_.n_factorizations;
-    if (common_.status == CHOLMOD_NOT_POSDEF || factor_->minor < factor_->n)
-      throw LinearSystemError(LinearSystemError::Kind::not_positive_definite, fmt::format(
-          "the stiffness matrix is singular or not positive definite (pivot {} of {} failed)",
-          factor_->minor, factor_->n));
+    if (common_.status == CHOLMOD_NOT_POSDEF || factor_->minor < factor_->n) {
+      // The pivot that failed, in the system's own numbering: `minor` counts the pivots in the
+      // fill-reducing order, whose k-th is the unknown Perm[k].
+      const auto* order = static_cast<const std::int64_t*>(factor_->Perm);
+      const long k = static_cast<long>(factor_->minor);
+      throw LinearSystemError(
+          LinearSystemError::Kind::not_positive_definite,
+          fmt::format("the stiffness matrix is singular or not positive definite (pivot {} of {} "
+                      "failed)",
+                      factor_->minor, factor_->n),
+          k < static_cast<long>(factor_->n) ? (order ? static_cast<long>(order[k]) : k) : -1);
+    }
     if (common_.status < CHOLMOD_OK)
       throw LinearSystemError(
           LinearSystemError::Kind::failed,

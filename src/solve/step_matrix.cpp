@@ -55,7 +55,8 @@ LinearSystemError limit_point(const LinearSystemError& e, double t) {
                             "(petsc_options: \"-pc_type lu\") can follow the path it is on, but "
                             "a load control cannot pass a limit point and an arc-length control "
                             "is not available",
-                            e.what(), t));
+                            e.what(), t),
+      e.equation());
 }
 }  // namespace
 

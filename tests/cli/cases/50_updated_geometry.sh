@@ -162,7 +162,7 @@ sed -i -E 's/^n = 40;/n = 10;/' "$d/beam.geo"
 sed -i -E 's|^    force: \[0, "5\*t \* 1e9\*0.02\*0.01\^3/12", 0\]$|    force: ["-5*t * 1e9*0.02*0.01^3/12", 0, 0]|; s/^  steps: 50$/  steps: 10/' "$d/case.yaml"
 grep -q '^    force: \["-5' "$d/case.yaml" || bad "column: the elastica's force line was not found"
 expect "updated, column past Euler's load: stops, naming a buckling or limit point" 2 \
-  "the tangent is not positive definite at the step's start .*a buckling or limit point near t = 0.5 \(geometry: updated\)" -- \
+  "the tangent is not positive definite at the step's start \(the stiffness matrix is singular or not positive definite \(pivot [0-9]+ of [0-9]+ failed\) at the [xyz] displacement of node [0-9]+ \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)\): a buckling or limit point near t = 0.5 \(geometry: updated\)" -- \
   run "$d/case.yaml" --quiet
 ex_check "updated, column: the last converged step is the first beyond Euler's load (t = 0.4935)" \
   "$d/case.out/history.csv" "0.4935 <= h[-1]['time'] < 0.4935 + 0.1"
