@@ -91,13 +91,11 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
   MeshPart part = scatter_parts(mesh.get(), owner);
   mesh.reset();
   owner = {};
-  if (int code = together([&] {
-        Log quiet;  // root's whole model has said what there is to say
-        quiet.silent = true;
-        l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet);
-      }))
+  Log quiet;  // root's whole model has said what there is to say
+  quiet.silent = true;
+  if (int code = together([&] { l.model = std::make_unique<Model>(*l.spec, std::move(part), quiet); }))
     return code;
-  l.model->join();
+  l.model->join(quiet);
   out.parts_line = describe_parts(*l.model, "");
   return 0;
 }
@@ -132,7 +130,7 @@ int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLoca
     if (int code =
             together([&] { l.model = std::make_unique<Model>(*l.spec, std::move(part), log); }))
       return code;
-    if (int code = together([&] { l.model->join(); })) return code;
+    if (int code = together([&] { l.model->join(log); })) return code;
   }
   const Model& m = *l.model;
   std::vector<double> of_type(static_cast<int>(CellType::quad8) + 1, 0.0);  // exact counts

@@ -91,8 +91,8 @@ class Model {
   Model(const Case& c, MeshPart part, Log& log);
   /// Completes a part model with what the ranks know together (above), and makes the whole
   /// model's checks with the same messages as a whole mesh's: every rank throws the same
-  /// InputError. Collective.
-  void join();
+  /// InputError (the rigid motions of check_held too; its warnings go to `log`). Collective.
+  void join(Log& log);
   /// The mesh, moved out: what the rank that read it sends out in parts once the whole model
   /// has checked it. The model is of no use after.
   Mesh take_mesh() && { return std::move(mesh_); }
@@ -233,6 +233,8 @@ class Model {
   /// Every connected body is held against its six rigid motions by its displacement
   /// conditions, or by contact (a warning); else an InputError naming the body and the motions
   /// (model_held.cpp). On a whole mesh.
+  /// The six rigid motions of each connected body against its supports (model_held.cpp); on a
+  /// part, with the other ranks' pieces of the bodies (collective, from join).
   void check_held(Log& log) const;
   /// A part's contact points, bound together (join): every copy of a point has the whole
   /// model's area, element size and stiffness. Collective.

@@ -16,7 +16,7 @@
 
 namespace hencky {
 
-void Model::join() {
+void Model::join(Log& log) {
   if (!dist_.part) return;
   dist_.exchange = std::make_shared<const NodeExchange>(*dist_.part);
   dist_.layout = NodalLayout::distributed(dist_.exchange);
@@ -72,6 +72,7 @@ void Model::join() {
                                    r.name, has_heat() ? " or temperature" : ""));
   }
   bind_contact_of_part();
+  check_held(log);
 }
 
 void Model::check_outer_faces() const {

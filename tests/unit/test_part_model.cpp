@@ -60,7 +60,7 @@ struct WholeAndPart {
     global_node = p.global_node;
     owned = p.owned_nodes;
     part = std::make_unique<Model>(*whole.spec, std::move(p), log);
-    part->join();
+    part->join(log);
   }
   TempDir dir;
   Log log;
@@ -229,7 +229,7 @@ solver: {steps: 1}
   // Each rank's part holds a face with one of its cells: only join can tell.
   Model part(spec, extract_part(mesh, partition_from(mesh, owner, ranks, par::rank())), log);
   try {
-    part.join();
+    part.join(log);
     ADD_FAILURE() << "the parts took a load inside the body";
   } catch (const InputError& e) {
     EXPECT_NE(e.message().find(refused), std::string::npos) << e.what();

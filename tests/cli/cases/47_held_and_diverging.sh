@@ -51,3 +51,26 @@ expect "held: a cube held vertically by a rigid plane alone runs, with a warning
   -- run "$h/contact-held.yaml" -o "$h/contact-held.out"
 ex_check "held: ... and the plane carries the load (1e4 N to 1e-9)" "$h/contact-held.out/summary.json" \
   "close(s['contact']['plane']['force'], 1e4, 1e-9)"
+
+# --- The same check on a mesh split into files, each rank reading its own (no rank holds the
+#     whole mesh): the ranks' pieces of the bar are joined into one body, whose free rotation
+#     is named as on one rank. The 25 x 2 x 2 bar split in two across its length.
+if command -v mpirun >/dev/null; then
+  s="$h/split"
+  mkdir -p "$s"
+  gmsh -3 -part 2 -part_split "$h/bar.geo" -format msh41 -o "$s/bar.msh" >/dev/null 2>&1 ||
+    bad "held, split: gmsh could not split the bar"
+  sed -e 's#^mesh: {file: bar.geo}$#mesh: {file: bar.msh, split: true}#' "$h/rotation-free.yaml" \
+    >"$s/rotation-free.yaml"
+  grep -q "split: true" "$s/rotation-free.yaml" || bad "held, split: the case's mesh line was not replaced"
+  # (`check` reads the files together as the whole mesh; `run` on 2 ranks is the split way,
+  # which ran this bar to the end before.)
+  mpi_expect "held, split into 2 files on 2 ranks: run refuses the free rotation, named as on one rank" 1 \
+    "the body is not held: its displacement conditions leave 1 rigid motion free: rotation about the axis through \(0.05, 0, 0\) along x" \
+    2 -- run "$s/rotation-free.yaml" -o "$s/refused.out"
+  [ -e "$s/refused.out" ] && bad "held, split: the refused run wrote an output directory" ||
+    ok "held, split: the refused run wrote nothing"
+  sed -e 's/{region: x0, displacement: {x: 0}}/{region: x0, displacement: {x: 0, y: 0}}/' \
+    "$s/rotation-free.yaml" >"$s/held.yaml"
+  mpi_expect "held, split: ... and runs once u_y is held at its end" 0 "" 2 -- run "$s/held.yaml" --quiet
+fi
