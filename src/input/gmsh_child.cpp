@@ -45,7 +45,7 @@ struct Writer {
   void put(const std::vector<T>& v) {
     put(static_cast<std::int64_t>(v.size()));
     if constexpr (std::is_trivially_copyable_v<T>) {
-      bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+      if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
     } else {
       for (const T& x : v) put(x);
     }
@@ -84,7 +84,7 @@ struct Reader {
       if (n > (bytes.size() - at) / sizeof(T))
         throw std::runtime_error("the Gmsh child's result is cut short");
       v.resize(n);
-      std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+      if (n > 0) std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));  // data() may be null
       at += n * sizeof(T);
     } else {
       v.clear();
