@@ -34,8 +34,6 @@ export OMP_WAIT_POLICY=PASSIVE  # as in scripts/test.sh: two tests at a time on 
 # ranks, signals); 80_inp.sh's runs of each deck are solves too (the deck reader itself is
 # sanitized by its unit tests and its fuzz corpus). The checks kept (bad input, outputs, the crashes of issue 14, bad meshes)
 # took 60 s, beside the unit tests.
-# A check's time limit is 10 times its Release one under the sanitizers.
-export HENCKY_CLI_TIME_FACTOR=10
 if [ "${1:-}" != "--all" ]; then
   export HENCKY_CLI_SKIP="10_examples 40_parallel 45_converging_defaults 50_updated_geometry 55_heat 60_restart 80_inp"
 fi

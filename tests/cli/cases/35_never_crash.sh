@@ -51,15 +51,11 @@ expect_cmd "issue 14: solver.steps: 1e9 is an input error naming solver.steps" 1
   "steps-1e9\.yaml:5:[0-9]+: 'solver\.steps': expected at most 1000000 steps, found 1000000000" -- \
   timeout 20 "$bin" check "$cd_/steps-1e9.yaml"
 crash_case steps-1e6 "solver: {steps: 1000000}"
-t0=$(date +%s%N)
+# The 20 s limit guards against the hang; what the check costs is measured by
+# bench/run_check_steps.sh (2026-11-28: 225 ms against 222 ms for 10 steps), not timed here: a
+# 1 s limit failed under load (issue 47).
 expect_cmd "issue 14: solver.steps: 10^6 checks (and says so)" 0 "steps: 1000000$" -- \
   timeout 20 "$bin" check "$cd_/steps-1e6.yaml"
-ms=$(( ($(date +%s%N) - t0) / 1000000 ))
-# HENCKY_CLI_TIME_FACTOR: the sanitizer stage (scripts/sanitize.sh) runs the same checks
-# several times slower; the limit grows with it.
-limit_ms=$((1000 * ${HENCKY_CLI_TIME_FACTOR:-1}))
-[ "$ms" -lt "$limit_ms" ] && ok "issue 14: ... in under $limit_ms ms (${ms} ms)" ||
-  bad "issue 14: check of 10^6 steps took ${ms} ms (limit $limit_ms ms)"
 
 # --- NaN results reported as converged (exit 0, residual 0, nan in history.csv).
 # A temperature whose thermal stress overflows (1e308 * alpha * E): an input error before solving,
