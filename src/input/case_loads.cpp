@@ -12,9 +12,10 @@ namespace {
 const std::vector<std::string> temperature_keys = {"reference", "field", "from"};
 const std::vector<std::string> temperature_sources = {"heat"};
 const std::vector<std::string> field_file_keys = {"file"};
-const std::vector<std::string> boundary_keys = {"region", "displacement", "pressure", "traction",
-                                                "force"};
-const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force"};
+const std::vector<std::string> boundary_keys = {"region",   "displacement", "pressure",
+                                                "traction", "force",        "nodal_force"};
+const std::vector<std::string> conditions = {"displacement", "pressure", "traction", "force",
+                                             "nodal_force"};
 const std::vector<std::string> xyz_keys = {"x", "y", "z"};
 
 const KeySection load_key_sections[] = {
@@ -105,7 +106,7 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Val& item = items[i];
     Map m(r, item, boundary_keys,
-          "a condition {region: ..., displacement|pressure|traction|force: ...}");
+          "a condition {region: ..., displacement|pressure|traction|force|nodal_force: ...}");
     BoundarySpec b;
     const Val region = m.require(r, "region", "the Gmsh physical group the condition acts on");
     if (region.node.IsSequence())
@@ -119,7 +120,7 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
     if (given.empty())
       r.fail(item, "boundary entry for region '" + b.region +
                        "' has no condition: expected one of 'displacement', 'pressure', "
-                       "'traction', 'force'");
+                       "'traction', 'force', 'nodal_force'");
     if (given.size() > 1) {
       const Val second = *m.get(given[1]);
       throw InputError(r.at(m.key_mark(given[1]), second.path),
@@ -133,7 +134,9 @@ std::vector<BoundarySpec> read_boundary(const Reader& r, const Val& v) {
       b.kind = BoundaryKind::pressure;
       b.pressure = r.expression(c);
     } else {
-      b.kind = given[0] == "traction" ? BoundaryKind::traction : BoundaryKind::force;
+      b.kind = given[0] == "traction" ? BoundaryKind::traction
+               : given[0] == "force"    ? BoundaryKind::force
+                                        : BoundaryKind::nodal_force;
       auto e = r.expression3(c);
       for (int k = 0; k < 3; ++k) b.components[k] = std::move(e[k]);
     }

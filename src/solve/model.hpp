@@ -290,6 +290,9 @@ class Model {
   struct Loads {
     std::vector<PrescribedDof> prescribed;
     std::vector<FaceLoad> faces;
+    /// nodal_force: each node of its region (on a part, the nodes it owns), by index into
+    /// Case::boundary.
+    std::vector<std::pair<int, int>> nodal;
     /// On a part: this rank's area of each force boundary's region (join sums them), by index
     /// into Case::boundary.
     std::vector<std::pair<int, double>> part_areas;

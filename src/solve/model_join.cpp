@@ -156,11 +156,16 @@ void Model::check_whole() const {
   // In the order a whole mesh's binding makes them (bind_boundary, bind_heat), so that the
   // first error is the same.
   const auto& bcs = case_->boundary;
-  for (const BoundarySpec& bc : bcs)
-    if (bc.kind != BoundaryKind::displacement &&
+  for (const BoundarySpec& bc : bcs) {
+    if (bc.kind == BoundaryKind::nodal_force &&
+        par::sum(static_cast<long long>(
+            mesh_.find_region(bc.region, 0, 3, region_names_ignore_case())->nodes.size())) == 0)
+      throw InputError(bc.where, fmt::format("region '{}' has no nodes to load", bc.region));
+    if (bc.kind != BoundaryKind::displacement && bc.kind != BoundaryKind::nodal_force &&
         par::sum(static_cast<long long>(
             mesh_.find_region(bc.region, 2, 2, region_names_ignore_case())->cells.size())) == 0)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", bc.region));
+  }
   if (!par::any(!loads_.prescribed.empty()))
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "

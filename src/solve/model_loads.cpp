@@ -32,6 +32,16 @@ void Model::bind_boundary() {
           }
       continue;
     }
+    if (bc.kind == BoundaryKind::nodal_force) {
+      // On a part, each node's owner applies it (the ranks' forces are summed over the copies).
+      const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
+      if (r.nodes.empty() && !dist_.part)
+        throw InputError(bc.where, fmt::format("region '{}' has no nodes to load", r.name));
+      const int owned = dist_.part ? dist_.part->owned_nodes : mesh_.n_nodes();
+      for (int n : r.nodes)
+        if (n < owned) loads_.nodal.emplace_back(n, static_cast<int>(b));
+      continue;
+    }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
     if (r.cells.empty() && !dist_.part)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", r.name));
@@ -233,6 +243,17 @@ void Model::own_external_forces(double t, std::vector<double>& f,
             load_overflow(bc.kind == BoundaryKind::pressure ? *bc.pressure : *bc.components[d],
                           to_string(bc.kind), mesh_.node_tag[nodes[a]], t);
         }
+    }
+  }
+  for (const auto& [n, boundary] : loads_.nodal) {
+    // The vector at the node, whatever the configuration (a force stays that force); the
+    // expressions take the undeformed coordinates.
+    const BoundarySpec& bc = case_->boundary[boundary];
+    const Vec3& p = mesh_.x[n];
+    for (int d = 0; d < 3; ++d) {
+      double& fi = f[3 * static_cast<std::size_t>(n) + d];
+      fi += bc.components[d]->eval_checked(p.x(), p.y(), p.z(), t, "nodal_force");
+      if (!std::isfinite(fi)) load_overflow(*bc.components[d], "nodal_force", mesh_.node_tag[n], t);
     }
   }
   if (case_->body_force) {

@@ -49,6 +49,8 @@ const char* to_string(BoundaryKind kind) {
       return "traction";
     case BoundaryKind::force:
       return "force";
+    case BoundaryKind::nodal_force:
+      return "nodal_force";
   }
   return "?";
 }

@@ -172,13 +172,15 @@ struct HeatSpec {
   SourceLocation where;  ///< the heat section
 };
 
-enum class BoundaryKind { displacement, pressure, traction, force };
+/// force: a total force spread over a face region by area; nodal_force: the vector on each node
+/// of a region of any dimension (CalculiX's *CLOAD).
+enum class BoundaryKind { displacement, pressure, traction, force, nodal_force };
 const char* to_string(BoundaryKind kind);
 
 struct BoundarySpec {
   std::string region;
   BoundaryKind kind = BoundaryKind::displacement;
-  /// displacement: the prescribed ones of x, y, z; traction / force: all three.
+  /// displacement: the prescribed ones of x, y, z; traction / force / nodal_force: all three.
   std::array<std::optional<Expression>, 3> components;
   std::optional<Expression> pressure;  ///< pressure only; acts along -n (into the body)
   SourceLocation where;                ///< location of the region name (key boundary[i].region)
