@@ -82,7 +82,7 @@ void InpReader::keyword(const Keyword& k, int at, int first, int end) {
                          ", INPUT=... is not read; write *INCLUDE, INPUT=... "
                          "around the data lines instead");
     if (of_assembly) {
-      skip("*" + k.name + " of the assembly (reference points)");
+      skip("*" + k.name + " of the assembly (reference points)", at);
       return;
     }
   }
@@ -91,11 +91,12 @@ void InpReader::keyword(const Keyword& k, int at, int first, int end) {
   if (k.name == "NSET") return set(k, at, first, end, true);
   if (k.name == "ELSET") return set(k, at, first, end, false);
   if (k.name == "SURFACE") return surface(k, at, first, end);
-  skip("*" + k.name);
+  skip("*" + k.name, at);
 }
 
-void InpReader::skip(const std::string& what) {
-  if (std::find(skipped_.begin(), skipped_.end(), what) == skipped_.end()) skipped_.push_back(what);
+void InpReader::skip(const std::string& what, int at) {
+  const std::pair<int, std::string> item{deck_.lines[at].file, what};
+  if (std::find(skipped_.begin(), skipped_.end(), item) == skipped_.end()) skipped_.push_back(item);
 }
 
 void InpReader::part(const Keyword& k, int at) {
@@ -196,6 +197,8 @@ void InpReader::add_element(const std::string& type, const ElementKind& ek,
   if (type != "C3D4" && type != "C3D10" && type != "C3D8" && type != "C3D20" && type != "C3D6" &&
       ek.kind == ElementKind::Kind::volume)
     ++renamed_types_[type];
+  else if (type == "C3D8" || type == "C3D6" || type == "C3D20")
+    ++convention_types_[type];
   element_of_label_.emplace(e, static_cast<int>(elements_.size()));
   elements_.push_back({e, ek, type, static_cast<int>(conn_.size()), line});
   conn_.insert(conn_.end(), labels.begin() + 1, labels.end());

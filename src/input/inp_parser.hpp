@@ -99,7 +99,8 @@ class InpReader {
   double real(std::string_view s, int line) const;
   /// The keyword k of line `at`, its data lines first .. end - 1.
   void keyword(const Keyword& k, int at, int first, int end);
-  void skip(const std::string& what);
+  /// A keyword hencky does not read, listed in warn() under the file of line `at`.
+  void skip(const std::string& what, int at);
   void part(const Keyword& k, int at);
   void instance(const Keyword& k, int at, int first, int end);
   void nodes(const Keyword& k, int at, int first, int end);
@@ -141,13 +142,13 @@ class InpReader {
   std::vector<long> conn_;
   std::unordered_map<long, int> element_of_label_;
   std::unordered_map<long, int> skipped_elements_;  // label -> line
-  std::map<std::string, int> skipped_types_, renamed_types_;
+  std::map<std::string, int> skipped_types_, renamed_types_, convention_types_;
   std::map<std::string, Set> nsets_, elsets_;  // by upper-case name
   std::vector<std::string> nset_order_, elset_order_;
   std::map<std::string, Surface> surfaces_;
   std::vector<std::string> surface_order_;
   std::size_t total_members_ = 0;
-  std::vector<std::string> skipped_;
+  std::vector<std::pair<int, std::string>> skipped_;  // (file, keyword), in order met
   std::string part_name_;
   int instances_ = 0;
   bool in_assembly_ = false, in_instance_ = false;

@@ -246,13 +246,16 @@ void InpReader::volume_regions(Mesh& mesh) {
 void InpReader::warn() const {
   if (!warnings_) return;
   const std::string file = fs::path(deck_.names[0]).filename().string();
-  if (!skipped_.empty()) {
+  // Each file of the deck (the main one and its *INCLUDEs) with the keywords it holds.
+  for (std::size_t f = 0; f < deck_.names.size(); ++f) {
     std::string list;
-    for (const auto& k : skipped_) list += (list.empty() ? "" : ", ") + k;
-    warnings_->push_back(file +
-                         ": skipped what is not mesh data (hencky takes materials, "
-                         "conditions and steps from the case file): " +
-                         list);
+    for (const auto& [in, k] : skipped_)
+      if (in == static_cast<int>(f)) list += (list.empty() ? "" : ", ") + k;
+    if (!list.empty())
+      warnings_->push_back(fs::path(deck_.names[f]).filename().string() +
+                           ": skipped what is not mesh data (hencky takes materials, "
+                           "conditions and steps from the case file): " +
+                           list);
   }
   if (!skipped_types_.empty()) {
     std::string list;
@@ -260,6 +263,20 @@ void InpReader::warn() const {
       list += fmt::format("{}{} {}", list.empty() ? "" : ", ", n, type);
     warnings_->push_back(file +
                          ": skipped the elements that are neither volumes nor faces: " + list);
+  }
+  if (!convention_types_.empty()) {
+    // The unsuffixed types whose integration or interpolation is not ccx's (docs/case-reference.md,
+    // "Abaqus and CalculiX decks").
+    std::string list;
+    for (const auto& [type, n] : convention_types_) {
+      const bool bbar = type == "C3D8" || type == "C3D6";
+      list += fmt::format("{}{} {} ({})", list.empty() ? "" : "; ", n, type,
+                          bbar ? "hencky's B-bar strain, the volumetric strain the element's mean; "
+                                 "ccx integrates them fully without it, stiffer in bending"
+                               : "temperatures interpolated with the element's quadratic "
+                                 "functions; ccx fits them linearly");
+    }
+    warnings_->push_back(file + ": elements that hencky and ccx treat differently: " + list);
   }
   if (!renamed_types_.empty()) {
     std::string list;

@@ -225,10 +225,13 @@ right
   EXPECT_EQ(m.find_region("_top_s2", 0, 3, true), nullptr);  // INTERNAL: the surface's only
   EXPECT_EQ(m.find_region("top", 0, 3, false), nullptr);  // as written: "Top"
   EXPECT_EQ(m.regions[m.cell_region[1]].name, "right");
-  ASSERT_EQ(warnings.size(), 3u);
+  ASSERT_EQ(warnings.size(), 4u);
   EXPECT_NE(warnings[0].find("*MATERIAL, *ELASTIC"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[1].find("1 T3D2"), std::string::npos) << warnings[1];
-  EXPECT_NE(warnings[2].find("1 C3D8R"), std::string::npos) << warnings[2];
+  // The plain C3D8 is hencky's hexahedron, named for its B-bar strain (issue 48).
+  EXPECT_NE(warnings[2].find("treat differently: 1 C3D8 (hencky's B-bar strain"), std::string::npos)
+      << warnings[2];
+  EXPECT_NE(warnings[3].find("1 C3D8R"), std::string::npos) << warnings[3];
 }
 
 TEST(InpReader, OnePartWithOneInstanceAndAnIncludedFile) {
@@ -266,8 +269,29 @@ _Lid_S2, S2
   EXPECT_EQ(m.find_region("rp", 0, 3, true), nullptr);  // a set of the assembly's node
   ASSERT_NE(m.find_region("LID", 2, 2, true), nullptr);
   EXPECT_EQ(m.find_region("LID", 2, 2, true)->nodes.size(), 4u);
-  ASSERT_EQ(warnings.size(), 1u);
+  ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("*NODE of the assembly"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("1 C3D8 (hencky's B-bar"), std::string::npos) << warnings[1];
+}
+
+// The keywords hencky skips are listed under the file that holds them, not the deck that
+// includes it (issue 48: the warning named the including file).
+TEST(InpReader, SkippedKeywordsAreNamedWithTheirOwnFile) {
+  const fs::path dir = fs::temp_directory_path() / ("hencky-inp-inc-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "material.inp") << "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000., 0.3\n";
+  const std::string deck = node_card(hex_corners) +
+                           "*ELEMENT, TYPE=C3D8R, ELSET=ALL\n1, 1, 2, 3, 4, 5, 6, 7, 8\n"
+                           "*INCLUDE, INPUT=material.inp\n*STEP\n*STATIC\n*END STEP\n";
+  std::vector<std::string> warnings;
+  parse(deck, &warnings, dir / "job.inp");
+  fs::remove_all(dir);
+  ASSERT_GE(warnings.size(), 2u);
+  EXPECT_EQ(warnings[0].rfind("job.inp: skipped what is not mesh data", 0), 0u) << warnings[0];
+  EXPECT_NE(warnings[0].find("*STEP, *STATIC, *END STEP"), std::string::npos) << warnings[0];
+  EXPECT_EQ(warnings[0].find("*MATERIAL"), std::string::npos) << warnings[0];
+  EXPECT_EQ(warnings[1].rfind("material.inp: skipped what is not mesh data", 0), 0u) << warnings[1];
+  EXPECT_NE(warnings[1].find("*MATERIAL, *ELASTIC"), std::string::npos) << warnings[1];
 }
 
 TEST(InpReader, FortranExponentsAndScale) {
