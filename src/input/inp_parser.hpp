@@ -24,6 +24,8 @@ namespace hencky::inp {
 struct Member {
   long first = 0, last = 0, step = 1;
   int line = 0;  ///< index into Deck::lines, for messages
+  /// From a GENERATE line: a label no *NODE defines is left out (as ccx does), not an error.
+  bool generated = false;
   long count() const { return (last - first) / step + 1; }
   /// Label k (from 0) of the member; first + k·step never passes `last`, so it cannot
   /// overflow as a running `label += step` could next to the largest long.
@@ -149,6 +151,8 @@ class InpReader {
   std::vector<std::string> surface_order_;
   std::size_t total_members_ = 0;
   std::vector<std::pair<int, std::string>> skipped_;  // (file, keyword), in order met
+  mutable std::map<std::string, long> generate_gaps_;  // NSET -> GENERATE labels of no node
+  std::pair<long, int> extra_numbers_{0, -1};  // element lines with numbers past the nodes, first
   std::string part_name_;
   int instances_ = 0;
   bool in_assembly_ = false, in_instance_ = false;

@@ -72,12 +72,19 @@ Mesh InpReader::build() {
 }
 
 void InpReader::add_nodes(const Set& s, Region& r) const {
-  each_label(s, [&](long n, int line) {
-    if (!node_of_label_.count(n))
-      throw fail(line, fmt::format("NSET '{}' names node {}, which no *NODE defines", s.name, n));
-    auto it = body_node_.find(n);
-    if (it != body_node_.end()) r.nodes.push_back(it->second);
-  });
+  for (const Member& m : s.members)
+    for (long k = 0, count = m.count(); k < count; ++k) {
+      const long n = m.label(k);
+      if (!node_of_label_.count(n)) {
+        if (m.generated) {
+          ++generate_gaps_[s.name];  // a range over numbers that are not all nodes: ccx's way
+          continue;
+        }
+        throw fail(m.line, fmt::format("NSET '{}' names node {}, which no *NODE defines", s.name, n));
+      }
+      auto it = body_node_.find(n);
+      if (it != body_node_.end()) r.nodes.push_back(it->second);
+    }
 }
 
 void InpReader::node_regions(Mesh& mesh) const {
@@ -263,6 +270,22 @@ void InpReader::warn() const {
       list += fmt::format("{}{} {}", list.empty() ? "" : ", ", n, type);
     warnings_->push_back(file +
                          ": skipped the elements that are neither volumes nor faces: " + list);
+  }
+  if (extra_numbers_.first > 0) {
+    const Line& l = deck_.lines[extra_numbers_.second];
+    warnings_->push_back(fmt::format(
+        "{}: {} element line{} with more numbers than the type has nodes (the first on line {} "
+        "of {}): the first were taken as the nodes, as ccx takes them",
+        file, extra_numbers_.first, extra_numbers_.first > 1 ? "s" : "", l.number,
+        fs::path(deck_.names[l.file]).filename().string()));
+  }
+  if (!generate_gaps_.empty()) {
+    std::string list;
+    for (const auto& [name, n] : generate_gaps_)
+      list += fmt::format("{}NSET '{}' ({} number{})", list.empty() ? "" : ", ", name, n,
+                          n > 1 ? "s" : "");
+    warnings_->push_back(file + ": GENERATE ranges over numbers that no *NODE defines, left out "
+                                "as ccx leaves them out: " + list);
   }
   if (!convention_types_.empty()) {
     // The unsuffixed types whose integration or interpolation is not ccx's (docs/case-reference.md,
