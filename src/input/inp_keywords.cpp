@@ -290,15 +290,15 @@ void InpReader::surface(const Keyword& k, int at, int first, int end) {
     throw fail(at, "*SURFACE, TYPE=" + *type +
                        ": hencky reads element-based (TYPE=ELEMENT) and node-based (TYPE=NODE) "
                        "surfaces");
-  auto [it, fresh] = surfaces_.try_emplace(upper(*name));
+  // A node-based and an element-based surface may share a name, as in ccx (metalforming of
+  // its test suite): two surfaces, a region of nodes and one of faces of that name.
+  auto [it, fresh] = surfaces_.try_emplace(upper(*name) + (t == "NODE" ? "\n(node)" : ""));
   Surface& s = it->second;
   if (fresh) {
     s.name = *name;
     s.nodes = t == "NODE";
     s.line = at;
     surface_order_.push_back(it->first);
-  } else if (s.nodes != (t == "NODE")) {
-    throw fail(at, "surface '" + *name + "' was defined before with another TYPE");
   }
   for (int l = first; l < end; ++l) {
     const auto f = data(l);

@@ -332,6 +332,19 @@ TEST(InpReader, CcxsLeniencesAreKeptAndSaid) {
       << all;
 }
 
+// A node-based and an element-based surface of one name (ccx's metalforming) are two regions
+// of that name: the nodes, and the faces.
+TEST(InpReader, ANodeAndAnElementSurfaceMayShareAName) {
+  const std::string deck = node_card(tet_corners) + "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n"
+                           "*SURFACE, TYPE=NODE, NAME=top\n4\n"
+                           "*SURFACE, TYPE=ELEMENT, NAME=top\n1, S2\n";
+  const Mesh m = parse(deck);
+  ASSERT_NE(m.find_region("top", 0, 0, true), nullptr);
+  EXPECT_EQ(m.find_region("top", 0, 0, true)->nodes, (std::vector<int>{3}));
+  ASSERT_NE(m.find_region("top", 2, 2, true), nullptr);
+  EXPECT_EQ(m.find_region("top", 2, 2, true)->cells.size(), 1u);
+}
+
 TEST(InpReader, BadDecksNameTheLine) {
   const std::string nodes = node_card(tet_corners);  // lines 1..5
   auto expect = [&](const std::string& tail, const std::string& where, const std::string& what) {
