@@ -103,11 +103,35 @@ const Region& Model::find_region(const std::string& name, const SourceLocation& 
       if (Mesh::same_region_name(r.name, name, ignore_case)) return r;
       names.push_back(r.name);
     }
-  std::string msg = fmt::format("region '{}' is not a {} of the mesh {}", name, what,
+  // A deck's regions are its sets and surfaces: its user is told in its words (issue 48).
+  std::string ext = case_->mesh.file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const bool deck = ext == ".inp";
+  const std::string kind =
+      !deck                          ? "a " + std::string(what)
+      : dim_min == 2 && dim_max == 2 ? "a *SURFACE (element faces, or an ELSET of face elements)"
+      : dim_min == 3                 ? "an ELSET of volume elements"
+                                     : "an NSET, ELSET or *SURFACE";
+  std::string msg = fmt::format("region '{}' is not {} of the mesh {}", name, kind,
                                 case_->mesh.file.filename().string());
-  if (const Region* other = mesh_.find_region(name, 0, 3, ignore_case))
-    msg += fmt::format(" (it is a {}D physical group)", other->dim);
-  throw InputError(where, msg + "; " + suggestion(name, names, std::string(what) + "s"));
+  if (const Region* other = mesh_.find_region(name, 0, 3, ignore_case)) {
+    if (!deck) {
+      msg += fmt::format(" (it is a {}D physical group)", other->dim);
+    } else {
+      msg += other->dim == 0   ? " (it is an NSET, or a node-based *SURFACE: nodes only)"
+             : other->dim == 2 ? " (it is a *SURFACE or an ELSET of face elements)"
+                               : " (it is an ELSET of volume elements)";
+      if (other->dim == 0 && dim_min == 2)
+        msg += "; a force on each of its nodes is `nodal_force` (*CLOAD); a pressure, traction "
+               "or total force needs the element faces: a *SURFACE, TYPE=ELEMENT of lines "
+               "'element or ELSET, S1 .. S6'";
+    }
+  }
+  const std::string valid = !deck                             ? std::string(what) + "s"
+                            : dim_min == 2 && dim_max == 2 ? "*SURFACEs and ELSETs of faces"
+                            : dim_min == 3                 ? "ELSETs of volume elements"
+                                                           : "sets and surfaces";
+  throw InputError(where, msg + "; " + suggestion(name, names, valid));
 }
 
 void Model::bind_materials(Log& log) {

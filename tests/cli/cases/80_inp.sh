@@ -98,5 +98,6 @@ sed -E -e "s|file: box.msh|file: box.inp|" -e 's|mesh: \{(.*)\}|mesh: {\1, order
 ex_bad "inp: mesh.order on a deck" "mesh.order converts Gmsh meshes only" "$bd/order.yaml"
 sed -E -e "s|file: box.msh|file: box.inp|" -e 's|region: load$|region: lod|' \
   "$id/box.yaml" >"$bd/region.yaml"
-ex_bad "inp: a region the deck has not" "region 'lod' is not a physical surface.*LOAD" \
+ex_bad "inp: a region the deck has not, in a deck's words" \
+  "region 'lod' is not a \*SURFACE \(element faces, or an ELSET of face elements\) of the mesh box\.inp; did you mean 'LOAD'\? valid \*SURFACEs and ELSETs of faces:.*LOAD" \
   "$bd/region.yaml"

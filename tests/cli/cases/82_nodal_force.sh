@@ -36,6 +36,13 @@ YAML
   ex_check "nodal_force: the loads total 9 N along y, balanced by the reactions" \
     "$nf/out/summary.json" \
     'close(s["reactions"]["FIX"]["y"], -9, 1e-9) and abs(s["reactions"]["FIX"]["z"]) < 1e-9'
+  # A face load on a node set: the deck's words and what would work (issue 48: the message
+  # spoke of Gmsh's physical groups).
+  sed -e 's/{region: LOAD, nodal_force: \[0, 1, 0\]}/{region: LOAD, force: [0, 9, 0]}/' \
+    "$nf/case.yaml" >"$nf/face-load.yaml"
+  expect "nodal_force: a total force on an NSET names it as one, and nodal_force or a *SURFACE" 1 \
+    "region 'LOAD' is not a \*SURFACE \(element faces, or an ELSET of face elements\) of the mesh beam10p\.inp \(it is an NSET, or a node-based \*SURFACE: nodes only\); a force on each of its nodes is .nodal_force. \(\*CLOAD\)" \
+    -- check "$nf/face-load.yaml"
 else
   ok "nodal_force: calculix-ccx-test is not installed, beam10p not checked"
 fi
