@@ -11,9 +11,9 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
-#include <type_traits>
 
 #include "core/error.hpp"
+#include "core/packed_bytes.hpp"
 
 extern char** environ;
 
@@ -27,146 +27,86 @@ Work& registered() {
 
 // ---- The result file: what the child got, in one binary stream ----------------------------
 // "HGC1", the outcome (0: the model; 1: an input error; 3: another error), its message and
-// location, Gmsh's messages, then the model. Written and read by the same program.
+// location, Gmsh's messages, then the model (core/packed_bytes.hpp).
 enum Outcome : std::int64_t { model = 0, input_error = 1, other_error = 3 };
+constexpr std::uint32_t magic = 0x31434748;  // "HGC1"
+const char* const cut_short = "the Gmsh process's result is cut short";
 
-struct Writer {
-  std::string bytes = "HGC1";
-  template <class T>
-  void put(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  void put(const std::string& s) {
-    put(static_cast<std::int64_t>(s.size()));
-    bytes.append(s);
-  }
-  template <class T>
-  void put(const std::vector<T>& v) {
-    put(static_cast<std::int64_t>(v.size()));
-    if constexpr (std::is_trivially_copyable_v<T>) {
-      if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-    } else {
-      for (const T& x : v) put(x);
-    }
-  }
-};
-
-struct Reader {
-  const std::string& bytes;
-  std::size_t at = 4;
-  void need(std::size_t n) const {
-    if (n > bytes.size() - at) throw std::runtime_error("the Gmsh child's result is cut short");
-  }
-  template <class T>
-  void get(T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    need(sizeof v);
-    std::memcpy(&v, bytes.data() + at, sizeof v);
-    at += sizeof v;
-  }
-  std::size_t count() {
-    std::int64_t n = 0;
-    get(n);
-    if (n < 0) throw std::runtime_error("the Gmsh child's result is malformed");
-    return static_cast<std::size_t>(n);
-  }
-  void get(std::string& s) {
-    const std::size_t n = count();
-    need(n);
-    s.assign(bytes, at, n);
-    at += n;
-  }
-  template <class T>
-  void get(std::vector<T>& v) {
-    const std::size_t n = count();
-    if constexpr (std::is_trivially_copyable_v<T>) {
-      if (n > (bytes.size() - at) / sizeof(T))
-        throw std::runtime_error("the Gmsh child's result is cut short");
-      v.resize(n);
-      if (n > 0) std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));  // data() may be null
-      at += n * sizeof(T);
-    } else {
-      v.clear();
-      for (std::size_t k = 0; k < n; ++k) get(v.emplace_back());
-    }
-  }
-};
-
-void put_model(Writer& w, const MshData& d) {
-  w.put(d.node_tags);
-  w.put(d.coords);
-  w.put(static_cast<std::int64_t>(d.entities.size()));
+void put_model(ByteWriter& w, const MshData& d) {
+  w.vector(d.node_tags);
+  w.vector(d.coords);
+  w.value(static_cast<std::uint64_t>(d.entities.size()));
   for (const auto& e : d.entities) {
-    w.put(e.dim);
-    w.put(e.tag);
-    w.put(e.physicals);
+    w.value(e.dim);
+    w.value(e.tag);
+    w.vector(e.physicals);
   }
-  w.put(static_cast<std::int64_t>(d.blocks.size()));
+  w.value(static_cast<std::uint64_t>(d.blocks.size()));
   for (const auto& b : d.blocks) {
-    w.put(b.dim);
-    w.put(b.entity);
-    w.put(b.type);
-    w.put(b.tags);
-    w.put(b.nodes);
+    w.value(b.dim);
+    w.value(b.entity);
+    w.value(b.type);
+    w.vector(b.tags);
+    w.vector(b.nodes);
   }
-  w.put(static_cast<std::int64_t>(d.physical_names.size()));
+  w.value(static_cast<std::uint64_t>(d.physical_names.size()));
   for (const auto& [key, name] : d.physical_names) {
-    w.put(key.first);
-    w.put(key.second);
-    w.put(name);
+    w.value(key.first);
+    w.value(key.second);
+    w.string(name);
   }
-  w.put(d.partitions);
-  w.put(d.piece);
+  w.value(d.partitions);
+  w.value(d.piece);
 }
 
-MshData get_model(Reader& r) {
+MshData get_model(ByteReader& r) {
   MshData d;
-  r.get(d.node_tags);
-  r.get(d.coords);
+  r.vector(d.node_tags);
+  r.vector(d.coords);
   d.entities.resize(r.count());
   for (auto& e : d.entities) {
-    r.get(e.dim);
-    r.get(e.tag);
-    r.get(e.physicals);
+    r.value(e.dim);
+    r.value(e.tag);
+    r.vector(e.physicals);
   }
-  for (std::size_t n = r.count(), k = 0; k < n; ++k) {
-    auto& b = d.blocks.emplace_back();
-    r.get(b.dim);
-    r.get(b.entity);
-    r.get(b.type);
-    r.get(b.tags);
-    r.get(b.nodes);
+  d.blocks.resize(r.count());
+  for (auto& b : d.blocks) {
+    r.value(b.dim);
+    r.value(b.entity);
+    r.value(b.type);
+    r.vector(b.tags);
+    r.vector(b.nodes);
   }
   for (std::size_t n = r.count(), k = 0; k < n; ++k) {
     int dim = 0, tag = 0;
-    r.get(dim);
-    r.get(tag);
-    r.get(d.physical_names[{dim, tag}]);
+    r.value(dim);
+    r.value(tag);
+    r.string(d.physical_names[{dim, tag}]);
   }
-  r.get(d.partitions);
-  r.get(d.piece);
+  r.value(d.partitions);
+  r.value(d.piece);
+  if (!r.done()) throw std::invalid_argument(cut_short);
   return d;
 }
 
 /// The error's location and message, and Gmsh's messages.
-void put_report(Writer& w, const SourceLocation& at, const std::string& message,
+void put_report(ByteWriter& w, const SourceLocation& at, const std::string& message,
                 const std::vector<std::string>& log) {
-  w.put(at.file);
-  w.put(at.line);
-  w.put(at.column);
-  w.put(at.key);
-  w.put(message);
-  w.put(log);
+  w.string(at.file);
+  w.value(at.line);
+  w.value(at.column);
+  w.string(at.key);
+  w.string(message);
+  w.strings(log);
 }
-void get_report(Reader& r, SourceLocation& at, std::string& message,
+void get_report(ByteReader& r, SourceLocation& at, std::string& message,
                 std::vector<std::string>& log) {
-  r.get(at.file);
-  r.get(at.line);
-  r.get(at.column);
-  r.get(at.key);
-  r.get(message);
-  r.get(log);
+  r.string(at.file);
+  r.value(at.line);
+  r.value(at.column);
+  r.string(at.key);
+  r.string(message);
+  r.strings(log);
 }
 
 /// "signal 11 (Segmentation fault)".
@@ -223,13 +163,15 @@ MshData run(const std::filesystem::path& file, bool geometry, int order,
         signal_text(WTERMSIG(status)), what, file_arg));
   std::ifstream in(result, std::ios::binary);
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.compare(0, 4, "HGC1") != 0)
+  std::uint32_t head = 0;
+  if (bytes.size() >= sizeof head) std::memcpy(&head, bytes.data(), sizeof head);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || head != magic)
     throw InputError(where, fmt::format("the process that runs Gmsh ({}) ended with status {} "
                                         "and no result",
                                         what, WIFEXITED(status) ? WEXITSTATUS(status) : -1));
-  Reader r{bytes};
+  ByteReader r(std::string_view(bytes).substr(sizeof head), cut_short);
   std::int64_t outcome = 0;
-  r.get(outcome);
+  r.value(outcome);
   SourceLocation at;
   std::string message;
   std::vector<std::string> log;
@@ -246,7 +188,8 @@ int child_main(int argc, char** argv) {
   // geometry it cannot handle. abort(), not a fault: the sanitizers turn faults into exit 1.
   if (const char* crash = std::getenv("HENCKY_TEST_GMSH_CHILD_ABORT"); crash && *crash == '1')
     std::abort();
-  Writer w;
+  ByteWriter w;
+  w.value(magic);
   std::vector<std::string> log;
   MshData data;
   std::int64_t outcome = model;
@@ -262,11 +205,11 @@ int child_main(int argc, char** argv) {
     outcome = other_error;
     message = e.what();
   }
-  w.put(outcome);
+  w.value(outcome);
   put_report(w, at, message, log);
   if (outcome == model) put_model(w, data);
   std::ofstream out(argv[3], std::ios::binary | std::ios::trunc);
-  out.write(w.bytes.data(), static_cast<std::streamsize>(w.bytes.size()));
+  out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
   out.close();
   return out ? 0 : 1;
 }

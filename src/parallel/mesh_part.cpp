@@ -10,6 +10,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/packed_bytes.hpp"
 #include "fem/reference_element.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/shared_nodes.hpp"
@@ -115,91 +116,32 @@ MeshPart extract_part(const Mesh& whole, const Partition& partition) {
 
 namespace {
 
-/// Little helpers of pack/unpack: each vector as its length, then its bytes.
-class Writer {
- public:
-  template <class T>
-  void value(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    out_.append(reinterpret_cast<const char*>(&v), sizeof(T));
-  }
-  template <class T>
-  void vector(const std::vector<T>& v) {
-    value(static_cast<std::uint64_t>(v.size()));
-    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-  }
-  void string(const std::string& s) {
-    value(static_cast<std::uint64_t>(s.size()));
-    out_ += s;
-  }
-  void cells(const CellSet& c) {
-    vector(c.type);
-    vector(c.offset);
-    vector(c.conn);
-    vector(c.tag);
-  }
-  std::string take() { return std::move(out_); }
-
- private:
-  std::string out_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string_view in) : in_(in) {}
-  template <class T>
-  void value(T& v) {
-    need(sizeof(T));
-    std::memcpy(&v, in_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-  }
-  template <class T>
-  void vector(std::vector<T>& v) {
-    std::uint64_t n = 0;
-    value(n);
-    if (n > (in_.size() - at_) / sizeof(T)) fail();
-    v.resize(n);
-    // Vec3 (Eigen) is a packed triple of doubles, though not trivially copyable by its type.
-    if (n) std::memcpy(static_cast<void*>(v.data()), in_.data() + at_, n * sizeof(T));
-    at_ += n * sizeof(T);
-  }
-  void string(std::string& s) {
-    std::uint64_t n = 0;
-    value(n);
-    need(n);
-    s.assign(in_.data() + at_, n);
-    at_ += n;
-  }
-  void cells(CellSet& c) {
-    vector(c.type);
-    vector(c.offset);
-    vector(c.conn);
-    vector(c.tag);
-  }
-  bool done() const { return at_ == in_.size(); }
-
- private:
-  void need(std::uint64_t n) const {
-    if (n > in_.size() - at_) fail();
-  }
-  [[noreturn]] static void fail() { throw std::invalid_argument("not a packed mesh part"); }
-  std::string_view in_;
-  std::size_t at_ = 0;
-};
+void put_cells(ByteWriter& w, const CellSet& c) {
+  w.vector(c.type);
+  w.vector(c.offset);
+  w.vector(c.conn);
+  w.vector(c.tag);
+}
+void get_cells(ByteReader& r, CellSet& c) {
+  r.vector(c.type);
+  r.vector(c.offset);
+  r.vector(c.conn);
+  r.vector(c.tag);
+}
 
 constexpr std::uint64_t part_magic = 0x6865'6e63'6b79'7032;  // "hencky" part, version 2
 
 }  // namespace
 
 std::string pack(const MeshPart& part) {
-  Writer w;
+  ByteWriter w;
   w.value(part_magic);
   const Mesh& m = part.mesh;
   w.vector(m.x);
   w.vector(m.node_tag);
-  w.cells(m.cells);
+  put_cells(w, m.cells);
   w.vector(m.cell_region);
-  w.cells(m.faces);
+  put_cells(w, m.faces);
   w.value(static_cast<std::uint64_t>(m.regions.size()));
   for (const Region& r : m.regions) {
     w.string(r.name);
@@ -218,7 +160,7 @@ std::string pack(const MeshPart& part) {
 }
 
 MeshPart unpack(std::string_view bytes) {
-  Reader r(bytes);
+  ByteReader r(bytes, "not a packed mesh part");
   std::uint64_t magic = 0;
   r.value(magic);
   if (magic != part_magic) throw std::invalid_argument("not a packed mesh part");
@@ -226,9 +168,9 @@ MeshPart unpack(std::string_view bytes) {
   Mesh& m = part.mesh;
   r.vector(m.x);
   r.vector(m.node_tag);
-  r.cells(m.cells);
+  get_cells(r, m.cells);
   r.vector(m.cell_region);
-  r.cells(m.faces);
+  get_cells(r, m.faces);
   std::uint64_t n_regions = 0;
   r.value(n_regions);
   if (n_regions > bytes.size()) throw std::invalid_argument("not a packed mesh part");
