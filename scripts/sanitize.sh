@@ -36,6 +36,11 @@ export OMP_WAIT_POLICY=PASSIVE  # as in scripts/test.sh: two tests at a time on 
 # took 60 s, beside the unit tests.
 if [ "${1:-}" != "--all" ]; then
   export HENCKY_CLI_SKIP="10_examples 40_parallel 45_converging_defaults 50_updated_geometry 55_heat 60_restart 80_inp"
+  # and the runs on MPI ranks of the other case files (47's split mesh, 82's nodal forces):
+  # tests/cli/cases/05_helpers.sh, with_mpi.
+  export HENCKY_CLI_NO_MPI=1
 fi
 ctest --output-on-failure -j"$(nproc)"
-bash "$here/scripts/fuzz.sh" --smoke
+# 3 s a target, two at a time: the corpora are replayed by ctest above; this is a few thousand
+# new inputs per reader, the long runs are scripts/fuzz.sh --long.
+bash "$here/scripts/fuzz.sh" --smoke 3

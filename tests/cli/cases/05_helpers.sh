@@ -102,6 +102,10 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # at work. The ball indentation on 4 ranks took 38.2 s, and 1.8 s with this (2 ranks: 1.5 s).
 # `--oversubscribe` alone does not set it in Open MPI 4.1.4 (docs/parallel.md).
 export OMPI_MCA_mpi_yield_when_idle=1
+# with_mpi: true when the checks on MPI ranks run: mpirun is there, and HENCKY_CLI_NO_MPI is not
+# set (the sanitizer stage sets it: under the sanitizers each rank's start takes seconds, and the
+# distributed code is sanitized by the unit tests on 3 ranks, mpi_node_exchange).
+with_mpi() { [ -z "${HENCKY_CLI_NO_MPI:-}" ] && command -v mpirun >/dev/null; }
 # mpi NP ARGS...: hencky on NP ranks, one thread each (the ranks share the 2 cores), at most
 # 2 minutes (a rank that waits for a dead one must not hang the suite).
 mpi() {

@@ -55,7 +55,7 @@ ex_check "held: ... and the plane carries the load (1e4 N to 1e-9)" "$h/contact-
 # --- The same check on a mesh split into files, each rank reading its own (no rank holds the
 #     whole mesh): the ranks' pieces of the bar are joined into one body, whose free rotation
 #     is named as on one rank. The 25 x 2 x 2 bar split in two across its length.
-if command -v mpirun >/dev/null; then
+if with_mpi; then
   s="$h/split"
   mkdir -p "$s"
   gmsh -3 -part 2 -part_split "$h/bar.geo" -format msh41 -o "$s/bar.msh" >/dev/null 2>&1 ||

@@ -92,7 +92,7 @@ identical "restart: the heat case from t = 30 is the uninterrupted run, to the b
 
 # --- MPI: written on 2 ranks, restarted on 1, 2 and 3; the same results to the solvers'
 # tolerance (MUMPS's and CHOLMOD's 1e-8 relative, as 40_parallel.sh).
-if command -v mpirun >/dev/null; then
+if with_mpi; then
   mpi 2 run "$rd/newton.yaml" --quiet -o "$rd/mpi.out" >/dev/null 2>&1 ||
     bad "restart: the run on 2 ranks failed"
   for np in 1 2 3; do
@@ -171,7 +171,7 @@ identical "restart: ... and ends with the results of the run that was not interr
 # ranks are stopped, signalled and let go on together (as `interrupt` does above), so the check
 # does not depend on when each sees its signal: every rank stops at the same iteration whatever
 # the order (the step loop's par::any), and mpirun passes on their status 4.
-if command -v mpirun >/dev/null; then
+if with_mpi; then
   rm -rf "$rd/ind/mpi-long.out" "$rd/ind/mpi-long.out".*
   mpirun -np 2 --oversubscribe --bind-to none -x OMP_NUM_THREADS=1 "$bin" run \
     "$rd/ind/long.yaml" -o "$rd/ind/mpi-long.out" >"$rd/ind/mpi-interrupt.log" 2>&1 &

@@ -73,7 +73,7 @@ expect "nodal_force: two components are an input error" 1 "two\.yaml:[0-9]+:[0-9
   -- check "$nf/two.yaml"
 # On 2 ranks (a distributed mesh: each node's force is applied by the rank that owns it, and
 # the ranks' forces are summed over the copies of their shared nodes), the same answer.
-if command -v mpirun >/dev/null; then
+if with_mpi; then
   mpi_expect "nodal_force: the bar on 2 ranks runs" 0 "" 2 -- run "$nf/bar.yaml" -o "$nf/bar2" --quiet
   ex_check "nodal_force: ... each end node counted once: the reaction is -9 times the vector" \
     "$nf/bar2/summary.json" \
