@@ -6,8 +6,8 @@
 // program itself, started again (posix_spawn of /proc/self/exe, a fresh process: no fork of a
 // process that holds OpenMP or MPI threads) with a first argument that its main() passes to
 // child_main(); it writes the model it got to a temporary file that the parent reads back.
-// Programs that do not enable it (the unit tests, the fuzz targets) run Gmsh in their own
-// process, as before.
+// Programs that do not enable it (the unit tests, the fuzz targets but msh_order) run Gmsh in
+// their own process, as before.
 #include <filesystem>
 #include <functional>
 #include <string>
