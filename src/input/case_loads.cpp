@@ -9,7 +9,7 @@ namespace hencky::case_input {
 
 namespace {
 
-const std::vector<std::string> temperature_keys = {"reference", "field", "from"};
+const std::vector<std::string> temperature_keys = {"reference", "field", "from", "interpolation"};
 const std::vector<std::string> temperature_sources = {"heat"};
 const std::vector<std::string> field_file_keys = {"file"};
 const std::vector<std::string> boundary_keys = {"region",   "displacement", "pressure",
@@ -43,6 +43,8 @@ TemperatureSpec read_temperature(const Reader& r, const Val& v) {
       r, "reference", "the stress-free temperature T_ref; it is never guessed, e.g. reference: 20");
   t.reference = r.number(reference);
   t.reference_where = r.at(reference);
+  if (auto i = m.get("interpolation"))
+    t.linear_in_quadratic_cells = r.choice(*i, {"element", "linear"}, "interpolation") == "linear";
   if (auto from = m.get("from")) {
     if (m.has("field"))
       throw InputError(r.at(m.key_mark("field"), child_path(v.path, "field")),

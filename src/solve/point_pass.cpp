@@ -65,16 +65,27 @@ void PointPass::temperatures(State& s, Log& log) const {
   std::vector<double> t_min(n_mat, INFINITY), t_max(n_mat, -INFINITY);
   int bad_cell = -1;  // the first cell with a temperature whose thermal strain overflows
   double bad_T = 0;
+  const bool linear_temperature = m_.spec().temperature.linear_in_quadratic_cells;
   for (int e = 0; e < mesh.cells.size(); ++e) {
     if (!m_.holds_points(e)) continue;
     const auto nodes = mesh.cells.nodes(e);
     const auto& tab = reference_table(mesh.cells.type[e]);
     const auto& mat = m_.material_of(e);
     const int mi = m_.material_index(e);
+    // temperature.interpolation: linear, in a quadratic cell: the corners' values with the
+    // linear cell's functions at the point (the corners come first in a cell's nodes).
+    const CellType linear = cell_linear(mesh.cells.type[e]);
+    const bool corners_only = linear_temperature && linear != mesh.cells.type[e];
+    double N_linear[max_cell_nodes];
     for (int q = 0; q < tab.n_points; ++q) {
       const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
       double T = 0;
-      for (std::size_t a = 0; a < nodes.size(); ++a) T += N[a] * s.nodal_temperature[nodes[a]];
+      if (corners_only) {
+        shape_values(linear, tab.points[q].data(), N_linear);
+        for (int a = 0; a < cell_n_nodes(linear); ++a) T += N_linear[a] * s.nodal_temperature[nodes[a]];
+      } else {
+        for (std::size_t a = 0; a < nodes.size(); ++a) T += N[a] * s.nodal_temperature[nodes[a]];
+      }
       const int p = m_.point_offset(e) + q;
       s.temperature[p] = T;
       s.constants[p] = mat.at(T);
