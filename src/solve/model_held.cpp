@@ -9,14 +9,16 @@
 // rank sums the rows of its connected pieces about their own centres; the pieces that share a
 // node are one body, whose sums are moved to its centre (exact: the rows are linear in it).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <numeric>
-#include <sstream>
 #include <tuple>
 #include <unordered_map>
 
+#include "core/packed_bytes.hpp"
 #include "parallel/mpi.hpp"
 #include "parallel/node_exchange.hpp"
 #include "solve/model.hpp"
@@ -25,6 +27,20 @@
 namespace hencky {
 namespace {
 
+/// Disjoint sets of 0 .. n-1 (union-find with path halving): a set is named by its root.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int root(int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  /// The set of a and b, named by the smaller root (the first member in order stays its name).
+  void join(int a, int b) {
+    a = root(a), b = root(b);
+    parent[std::max(a, b)] = std::min(a, b);
+  }
+};
 
 /// The connected bodies of the mesh's cells: a body index per node (-1: a node of no cell).
 struct Bodies {
@@ -33,41 +49,24 @@ struct Bodies {
 };
 
 Bodies connected_bodies(const Mesh& mesh) {
-  std::vector<int> parent(mesh.n_nodes());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](int n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-  };
+  DisjointSets sets(mesh.n_nodes());
   std::vector<char> used(mesh.n_nodes(), 0);
   for (int e = 0; e < mesh.cells.size(); ++e) {
     const auto nodes = mesh.cells.nodes(e);
     for (int n : nodes) used[n] = 1;
-    for (std::size_t a = 1; a < nodes.size(); ++a) parent[root(nodes[a])] = root(nodes[0]);
+    for (std::size_t a = 1; a < nodes.size(); ++a) sets.join(nodes[a], nodes[0]);
   }
   Bodies b;
   b.of_node.assign(mesh.n_nodes(), -1);
   std::vector<int> index(mesh.n_nodes(), -1);
   for (int n = 0; n < mesh.n_nodes(); ++n) {
     if (!used[n]) continue;
-    int& k = index[root(n)];
+    int& k = index[sets.root(n)];
     if (k < 0) k = b.count++;
     b.of_node[n] = k;
   }
   return b;
 }
-
-/// One body: where it is, the cell that names it, and the rows of its prescribed dofs and
-/// contact normals about its centre, rotations scaled by its size.
-struct Body {
-  Vec3 centre = Vec3::Zero();
-  double size = 0;  ///< the diagonal of its bounding box
-  long long first_cell = LLONG_MAX, cells = 0;  ///< the first cell in the whole mesh's order
-  long first_tag = 0;                           ///< its element tag
-  int region = -1;                              ///< and its region
-  Mat6d held = Mat6d::Zero();     ///< Σ rowᵀrow over the prescribed dofs
-  Mat6d contact = Mat6d::Zero();  ///< the same over the contact nodes' normals
-};
 
 /// The row of the six unit motions' components along `d` at x: translations along x, y, z and
 /// rotations about `ref`, e_j × (x − ref)/scale, scaled to be of one order.
@@ -93,94 +92,100 @@ Mat6d moved(const Mat6d& m, const Vec3& ref1, double scale1, const Vec3& ref2, d
   return t * m * t.transpose();
 }
 
-/// One connected piece of a rank's cells (the whole body on a whole mesh), in sums that add up
-/// across the ranks whose pieces make one body: its own nodes' count and coordinates, its
-/// bounding box, its first cell, and its rows about its own centre and size (ref, scale).
+/// One connected piece of a rank's cells, or a body (bodies_of: the pieces that share a node),
+/// in sums that add up across the ranks: its own nodes' count and coordinates, its bounding box,
+/// its first cell in the whole mesh's order (which names it), and the rows of its prescribed
+/// dofs and contact normals, Σ rowᵀrow, about its centre `ref` with rotations scaled by its
+/// size `scale` (a body's: the mean of its nodes and the diagonal of its bounding box).
 struct Piece {
   Vec3 ref = Vec3::Zero();
   double scale = 1, nodes = 0;
   Vec3 sum = Vec3::Zero(), lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   long long first_cell = LLONG_MAX, cells = 0;
-  long first_tag = 0;
-  int region = -1;
+  long first_tag = 0;  ///< the first cell's element tag
+  int region = -1;     ///< and its region
   Mat6d held = Mat6d::Zero(), contact = Mat6d::Zero();
   std::vector<long long> shared;  ///< the whole mesh's numbers of its nodes other ranks hold
 };
 
-std::string to_text(const Piece& p) {
-  std::string s = fmt::format("{:.17g} {:.17g} {:.17g} {:.17g} {:.17g}", p.ref.x(), p.ref.y(),
-                              p.ref.z(), p.scale, p.nodes);
-  for (const Vec3* v : {&p.sum, &p.lo, &p.hi})
-    s += fmt::format(" {:.17g} {:.17g} {:.17g}", v->x(), v->y(), v->z());
-  s += fmt::format(" {} {} {} {}", p.first_cell, p.cells, p.first_tag, p.region);
-  for (const Mat6d* m : {&p.held, &p.contact})
-    for (int i = 0; i < 36; ++i) s += fmt::format(" {:.17g}", (*m)(i));
-  s += fmt::format(" {}", p.shared.size());
-  for (long long g : p.shared) s += fmt::format(" {}", g);
-  return s + "\n";
+/// A 6×6 matrix as its 36 values (Eigen's matrices are not trivially copyable types).
+using Mat6Values = std::array<double, 36>;
+
+void put_piece(ByteWriter& w, const Piece& p) {
+  for (const Vec3* v : {&p.ref, &p.sum, &p.lo, &p.hi}) w.value(std::array{v->x(), v->y(), v->z()});
+  w.value(p.scale);
+  w.value(p.nodes);
+  w.value(p.first_cell);
+  w.value(p.cells);
+  w.value(p.first_tag);
+  w.value(p.region);
+  for (const Mat6d* m : {&p.held, &p.contact}) {
+    Mat6Values a;
+    std::copy(m->data(), m->data() + a.size(), a.begin());
+    w.value(a);
+  }
+  w.vector(p.shared);
 }
 
-Piece from_text(std::istream& in) {
+Piece get_piece(ByteReader& r) {
   Piece p;
-  std::size_t n = 0;
-  in >> p.ref.x() >> p.ref.y() >> p.ref.z() >> p.scale >> p.nodes;  // as to_text wrote them
-  for (Vec3* v : {&p.sum, &p.lo, &p.hi}) in >> v->x() >> v->y() >> v->z();
-  in >> p.first_cell >> p.cells >> p.first_tag >> p.region;
-  for (Mat6d* m : {&p.held, &p.contact})
-    for (int i = 0; i < 36; ++i) in >> (*m)(i);
-  in >> n;
-  p.shared.resize(n);
-  for (long long& g : p.shared) in >> g;
+  for (Vec3* v : {&p.ref, &p.sum, &p.lo, &p.hi}) {
+    std::array<double, 3> x{};
+    r.value(x);
+    *v = Vec3(x[0], x[1], x[2]);
+  }
+  r.value(p.scale);
+  r.value(p.nodes);
+  r.value(p.first_cell);
+  r.value(p.cells);
+  r.value(p.first_tag);
+  r.value(p.region);
+  for (Mat6d* m : {&p.held, &p.contact}) {
+    Mat6Values a{};
+    r.value(a);
+    std::copy(a.begin(), a.end(), m->data());
+  }
+  r.vector(p.shared);
   return p;
 }
 
-/// The bodies the pieces make: pieces that share a node are one body. In the order of each
-/// body's first piece.
-std::vector<Body> bodies_of(const std::vector<Piece>& pieces) {
-  std::vector<int> parent(pieces.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+/// The bodies the pieces make: pieces that share a node are one body, its sums moved to its
+/// own centre and size. In the order of each body's first piece.
+std::vector<Piece> bodies_of(const std::vector<Piece>& pieces) {
+  DisjointSets sets(pieces.size());
   std::unordered_map<long long, int> holder;
   for (int i = 0; i < static_cast<int>(pieces.size()); ++i)
     for (long long g : pieces[i].shared)
-      if (auto [it, fresh] = holder.emplace(g, i); !fresh) {
-        const int a = root(it->second), b = root(i);
-        parent[std::max(a, b)] = std::min(a, b);
-      }
+      if (auto [it, fresh] = holder.emplace(g, i); !fresh) sets.join(it->second, i);
   std::vector<int> index(pieces.size(), -1);
   std::vector<std::vector<int>> of_body;
   for (int i = 0; i < static_cast<int>(pieces.size()); ++i) {
-    int& k = index[root(i)];
+    int& k = index[sets.root(i)];
     if (k < 0) {
       k = static_cast<int>(of_body.size());
       of_body.emplace_back();
     }
     of_body[k].push_back(i);
   }
-  std::vector<Body> bodies;
+  std::vector<Piece> bodies;
   for (const std::vector<int>& members : of_body) {
-    Body b;
-    double nodes = 0;
-    Vec3 sum = Vec3::Zero(), lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    Piece b;
     for (int i : members) {
       const Piece& p = pieces[i];
-      nodes += p.nodes;
-      sum += p.sum;
-      lo = lo.cwiseMin(p.lo);
-      hi = hi.cwiseMax(p.hi);
+      b.nodes += p.nodes;
+      b.sum += p.sum;
+      b.lo = b.lo.cwiseMin(p.lo);
+      b.hi = b.hi.cwiseMax(p.hi);
       b.cells += p.cells;
       if (p.first_cell < b.first_cell)
         std::tie(b.first_cell, b.first_tag, b.region) = std::tie(p.first_cell, p.first_tag, p.region);
     }
-    b.centre = nodes > 0 ? Vec3(sum / nodes) : pieces[members[0]].ref;
-    b.size = std::max((hi - lo).norm(), 1e-300);
+    b.ref = b.nodes > 0 ? Vec3(b.sum / b.nodes) : pieces[members[0]].ref;
+    b.scale = std::max((b.hi - b.lo).norm(), 1e-300);
     for (int i : members) {
       const Piece& p = pieces[i];
-      b.held += moved(p.held, p.ref, p.scale, b.centre, b.size);
-      b.contact += moved(p.contact, p.ref, p.scale, b.centre, b.size);
+      b.held += moved(p.held, p.ref, p.scale, b.ref, b.scale);
+      b.contact += moved(p.contact, p.ref, p.scale, b.ref, b.scale);
     }
     bodies.push_back(b);
   }
@@ -244,12 +249,6 @@ std::vector<Piece> pieces_of(const Mesh& mesh, const DofMap& dofs,
   return pieces;
 }
 
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "; " : "") + v[i];
-  return s;
-}
-
 }  // namespace
 
 void Model::check_held(Log& log) const {
@@ -262,17 +261,17 @@ void Model::check_held(Log& log) const {
   std::vector<Piece> pieces = pieces_of(mesh_, dofs_, contacts_, part, copies);
   if (part) {
     // Every rank gets every rank's pieces and finds the same bodies and the same verdict.
+    ByteWriter mine;
+    for (const Piece& p : pieces) put_piece(mine, p);
     std::string all;
-    std::string mine;
-    for (const Piece& p : pieces) mine += to_text(p);
-    for (const std::string& text : par::gather_strings(mine)) all += text;
+    for (const std::string& bytes : par::gather_strings(mine.bytes())) all += bytes;
     par::broadcast(all);
     pieces.clear();
-    std::istringstream in(all);
-    for (in >> std::ws; !in.eof(); in >> std::ws) pieces.push_back(from_text(in));
+    for (ByteReader r(all, "check_held: the ranks' pieces are cut short"); !r.done();)
+      pieces.push_back(get_piece(r));
   }
-  const std::vector<Body> bodies = bodies_of(pieces);
-  for (const Body& b : bodies) {
+  const std::vector<Piece> bodies = bodies_of(pieces);
+  for (const Piece& b : bodies) {
     const Eigen::MatrixXd free = free_motions(b.held);
     if (free.cols() == 0) continue;
     const std::string name =
@@ -287,7 +286,7 @@ void Model::check_held(Log& log) const {
       log.warn(fmt::format(
           "{} is held by contact alone against {}: the displacement conditions leave it free, "
           "and only the rigid surfaces can stop it (a step where they do not touch it fails)",
-          name, joined(describe_motions(free, b.centre, b.size))));
+          name, fmt::join(describe_motions(free, b.ref, b.scale), "; ")));
       continue;
     }
     throw InputError(
@@ -297,7 +296,7 @@ void Model::check_held(Log& log) const {
                     "component prescribed somewhere, a rotation a component across its axis at a "
                     "node away from it",
                     name, contacts_.empty() ? "" : " and its contacts", unheld.cols(),
-                    unheld.cols() > 1 ? "s" : "", joined(describe_motions(unheld, b.centre, b.size)),
+                    unheld.cols() > 1 ? "s" : "", fmt::join(describe_motions(unheld, b.ref, b.scale), "; "),
                     unheld.cols() > 1 ? "them" : "it"));
   }
 }
