@@ -76,29 +76,6 @@ class StepTargets {
   std::deque<StepTarget> queue_;
 };
 
-/// Where the system's unknown `equation` is (a factorization's failed pivot, LinearSystemError):
-/// " at the y displacement of node 12 (0.1, 0, 0)", or "" when not known.
-std::string equation_place(const Model& model, long equation) {
-  const DofMap& dofs = model.dofs();
-  for (int i = 0; equation >= 0 && i < dofs.n_dofs(); ++i) {
-    if (dofs.eq[i] != equation) continue;
-    const int node = i / dofs.per_node;
-    const Vec3& x = model.mesh().x[node];
-    return fmt::format(" at the {} displacement of node {} ({:.4g}, {:.4g}, {:.4g})",
-                       "xyz"[i % dofs.per_node], model.mesh().node_tag[node], x.x(), x.y(), x.z());
-  }
-  return "";
-}
-
-/// `what` with `place` after the failed pivot it names ("(pivot 358 of 360 failed)"), which the
-/// messages built on it (a limit point under `updated`) quote in their middle; else at its end.
-std::string with_place(const std::string& what, const std::string& place) {
-  const std::size_t at = what.find(" failed)");
-  if (place.empty() || at == std::string::npos) return what + place;
-  const std::size_t end = at + std::string(" failed)").size();
-  return what.substr(0, end) + place + what.substr(end);
-}
-
 /// One attempt at the step to t1: true when it converged; `why` says why not. Input errors
 /// found by the attempt (options PETSc cannot use, a body not held) are thrown as such.
 bool attempt(const Model& model, Equilibrium& eq, const State& committed, double t1, State& trial,
@@ -126,13 +103,12 @@ bool attempt(const Model& model, Equilibrium& eq, const State& committed, double
   } catch (const LinearSystemError& e) {
     // The first solve of the analysis: the matrix of the elastic body itself cannot be
     // solved, the supports do not hold it.
-    const std::string place = equation_place(model, e.equation());
     if (first_step && out.iterations == 0)
       throw InputError(SourceLocation{model.spec().file.string(), 0, 0, "boundary"},
-                       with_place(e.what(), place) +
+                       std::string(e.what()) +
                            ": the body is not held against rigid-body motion (translations "
                            "and rotations); check the displacement conditions");
-    why = with_place(e.what(), place);
+    why = e.what();
   } catch (const SolveError& e) {
     why = e.what();
   }

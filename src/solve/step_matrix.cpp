@@ -43,6 +43,20 @@ bool StepMatrix::needs_elements(int iteration, int first_iteration, bool tangent
 }
 
 namespace {
+/// Where the system's unknown `equation` is (a factorization's failed pivot): " at the y
+/// displacement of node 12 (0.1, 0, 0)", or "" when not known (an iterative solver's failure).
+std::string equation_place(const Model& m, long equation) {
+  const DofMap& dofs = m.dofs();
+  for (int i = 0; equation >= 0 && i < dofs.n_dofs(); ++i) {
+    if (dofs.eq[i] != equation) continue;
+    const int node = i / dofs.per_node;
+    const Vec3& x = m.mesh().x[node];
+    return fmt::format(" at the {} displacement of node {} ({:.4g}, {:.4g}, {:.4g})",
+                       "xyz"[i % dofs.per_node], m.mesh().node_tag[node], x.x(), x.y(), x.z());
+  }
+  return "";
+}
+
 /// The failure of the tangent of a converged state under `updated` (a step's start). At t = 0
 /// the body is undeformed and free of stress: its matrix is the small strain's, and a failure
 /// is a body not held (the step control says so).
@@ -196,7 +210,11 @@ void StepMatrix::factorize() {
     system_.factorize();
   } catch (const LinearSystemError& e) {
     const int cell_index = iterate_.negative_secant_cell();
-    if (cell_index < 0) throw;
+    // The failed pivot's place in the mesh, after the solver's words for it; every message
+    // built on this error (a body not held, a limit point) quotes it.
+    if (cell_index < 0)
+      throw LinearSystemError(e.kind(), e.what() + equation_place(m_, e.equation()),
+                              e.equation());
     const Model::CellFacts cell = m_.cell_facts(cell_index);
     // variable-stiffness with a negative slope: say why the matrix is indefinite (a plain
     // SolveError: the step failed, the supports are not to blame).
