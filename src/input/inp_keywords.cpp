@@ -290,9 +290,9 @@ void InpReader::surface(const Keyword& k, int at, int first, int end) {
     throw fail(at, "*SURFACE, TYPE=" + *type +
                        ": hencky reads element-based (TYPE=ELEMENT) and node-based (TYPE=NODE) "
                        "surfaces");
-  // A node-based and an element-based surface may share a name, as in ccx (metalforming of
-  // its test suite): two surfaces, a region of nodes and one of faces of that name.
-  auto [it, fresh] = surfaces_.try_emplace(upper(*name) + (t == "NODE" ? "\n(node)" : ""));
+  // A node-based and an element-based surface may share a name: two surfaces, a region of
+  // nodes and one of faces of that name.
+  auto [it, fresh] = surfaces_.try_emplace(SurfaceKey{upper(*name), t == "NODE"});
   Surface& s = it->second;
   if (fresh) {
     s.name = *name;

@@ -119,8 +119,8 @@ class InpReader {
   // The Mesh (inp_reader.cpp).
   Mesh build();
   /// The nodes of a node set's labels that are on the body (each label must be a node).
-  void add_nodes(const Set& s, Region& r) const;
-  void node_regions(Mesh& mesh) const;
+  void add_nodes(const Set& s, Region& r);
+  void node_regions(Mesh& mesh);
   /// The element of a label that a set names (it must be an element of the deck); nullptr for
   /// a skipped (line) element.
   const Element* element(long label, int line, const std::string& set) const;
@@ -147,11 +147,14 @@ class InpReader {
   std::map<std::string, int> skipped_types_, renamed_types_, convention_types_;
   std::map<std::string, Set> nsets_, elsets_;  // by upper-case name
   std::vector<std::string> nset_order_, elset_order_;
-  std::map<std::string, Surface> surfaces_;
-  std::vector<std::string> surface_order_;
+  /// By upper-case name and whether node-based: ccx keeps a node-based and an element-based
+  /// surface of one name apart (metalforming of its test suite defines both).
+  using SurfaceKey = std::pair<std::string, bool>;
+  std::map<SurfaceKey, Surface> surfaces_;
+  std::vector<SurfaceKey> surface_order_;
   std::size_t total_members_ = 0;
   std::vector<std::pair<int, std::string>> skipped_;  // (file, keyword), in order met
-  mutable std::map<std::string, long> generate_gaps_;  // NSET -> GENERATE labels of no node
+  std::map<std::string, long> generate_gaps_;  // NSET -> GENERATE labels of no node
   std::pair<long, int> extra_numbers_{0, -1};  // element lines with numbers past the nodes, first
   std::string part_name_;
   int instances_ = 0;

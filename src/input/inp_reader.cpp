@@ -71,7 +71,7 @@ Mesh InpReader::build() {
   return mesh;
 }
 
-void InpReader::add_nodes(const Set& s, Region& r) const {
+void InpReader::add_nodes(const Set& s, Region& r) {
   for (const Member& m : s.members)
     for (long k = 0, count = m.count(); k < count; ++k) {
       const long n = m.label(k);
@@ -87,7 +87,7 @@ void InpReader::add_nodes(const Set& s, Region& r) const {
     }
 }
 
-void InpReader::node_regions(Mesh& mesh) const {
+void InpReader::node_regions(Mesh& mesh) {
   for (const auto& key : nset_order_) {
     if (nsets_.at(key).internal) continue;
     Region r{nsets_.at(key).name, 0, {}, {}};
