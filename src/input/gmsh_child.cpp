@@ -128,9 +128,9 @@ bool enabled() {
 MshData run(const std::filesystem::path& file, bool geometry, int order,
             std::vector<std::string>* gmsh_log) {
   const SourceLocation where{file.string(), 0, 0, ""};
-  const char* tmp = std::getenv("TMPDIR");
-  std::string result = (tmp && *tmp ? std::string(tmp) : std::string("/tmp")) +
-                       "/hencky-gmsh-XXXXXX";
+  std::error_code ec;  // TMPDIR, else /tmp
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path(ec);
+  std::string result = ((ec ? "/tmp" : tmp) / "hencky-gmsh-XXXXXX").string();
   const int fd = mkstemp(result.data());
   if (fd < 0)
     throw InputError(where, fmt::format("cannot create a temporary file for Gmsh's result in {}: {}",

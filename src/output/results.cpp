@@ -336,10 +336,11 @@ void ResultWriter::write_history(const StepReport& report, const State& state,
                                   errno ? std::strerror(errno) : "the stream failed"));
   final_values_ = {{"probes", probes}, {"reactions", reaction_json}, {"contact", contact_json}};
   if (model_.has_heat()) final_values_["heat_flows"] = heat_json;
-  remember(report.time, values, report);
+  remember(values, report);
 }
 
-void ResultWriter::remember(double time, const StepValues& values, const StepReport& report) {
+void ResultWriter::remember(const StepValues& values, const StepReport& report) {
+  const double time = report.time;
   const YieldExcess& excess = report.yield_excess;
   // A later step's value counts only when it exceeds the peak by more than round-off (a
   // perfectly plastic point stays at σ_y to its last bits): the time is the first that reached it.

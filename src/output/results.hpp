@@ -72,7 +72,7 @@ class ResultWriter final : public StepObserver {
   void write_law_values(const std::vector<ProbeValues>& probe_row, nlohmann::json& probes);
   void write_history(const StepReport& report, const State& state, const StepValues& values);
   /// Keeps the run's largest values and the last balance (report()).
-  void remember(double time, const StepValues& values, const StepReport& report);
+  void remember(const StepValues& values, const StepReport& report);
   const Model& model_;
   std::filesystem::path final_dir_, work_dir_;
   Log& log_;

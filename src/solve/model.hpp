@@ -232,9 +232,8 @@ class Model {
   void bind_contact();
   /// Every connected body is held against its six rigid motions by its displacement
   /// conditions, or by contact (a warning); else an InputError naming the body and the motions
-  /// (model_held.cpp). On a whole mesh.
-  /// The six rigid motions of each connected body against its supports (model_held.cpp); on a
-  /// part, with the other ranks' pieces of the bodies (collective, from join).
+  /// (model_held.cpp). On a part, with the other ranks' pieces of the bodies (collective, from
+  /// join).
   void check_held(Log& log) const;
   /// A part's contact points, bound together (join): every copy of a point has the whole
   /// model's area, element size and stiffness. Collective.
