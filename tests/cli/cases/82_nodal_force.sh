@@ -64,6 +64,29 @@ expect "nodal_force: on the end face of a Gmsh bar, runs" 0 "" -- run "$nf/bar.y
 ex_check "nodal_force: ... each of the end's 9 nodes carries it: the reaction is -9 times it" \
   "$nf/bar/summary.json" \
   'close(s["reactions"]["x0"]["x"], -90, 1e-9) and close(s["reactions"]["x0"]["z"], 9, 1e-9)'
+# The components are expressions of the node's (undeformed) x, y, z: on the side y = 0, x at
+# 26 stations 0.004 m apart, 3 nodes each: the force x along y sums to 3 x 0.004 x 325 = 3.9 N.
+sed -e 's/{region: x1, nodal_force: \[10, 0, "-t"\]}/{region: y0, nodal_force: [0, "x*t", 0]}/' \
+  "$nf/bar.yaml" >"$nf/by-x.yaml"
+expect "nodal_force: an expression of x on the side y = 0 runs" 0 "" -- run "$nf/by-x.yaml" -o "$nf/by-x" --quiet
+ex_check "nodal_force: ... each node takes its own x: the reaction is -3.9 N" "$nf/by-x/summary.json" \
+  'close(s["reactions"]["x0"]["y"], -3.9, 1e-9)'
+# Under geometry: updated the vector stays that vector (it does not turn with the faces): the
+# bar bent by a fifth of its length under 9 x 1200 N across keeps its reaction along z. A load
+# that followed the turned end face (slope about 0.3 at the tip) would give the reaction an x
+# part of some 0.3 F; measured 36 N of F = 10.8 kN (3.4e-3 F: the equilibrium the updated
+# iteration stops at, the same with a total `force` on the face), so the bound is 1e-2 F.
+sed -e 's/{region: x1, nodal_force: \[10, 0, "-t"\]}/{region: x1, nodal_force: [0, 0, "-1200*t"]}/' \
+  "$nf/bar.yaml" >"$nf/updated.yaml"
+printf 'solver: {geometry: updated, steps: 10}\n' >>"$nf/updated.yaml"
+sed -i -e 's/^  reactions: \[x0\]$/  reactions: [x0]\n  probes: [{name: tip, point: [0.1, 0.005, 0.005]}]/' "$nf/updated.yaml"
+expect "nodal_force: under geometry: updated, the bar bent across runs" 0 "" -- \
+  run "$nf/updated.yaml" -o "$nf/updated" --quiet
+ex_check "nodal_force: ... its tip goes down by more than a tenth of its length" \
+  "$nf/updated/summary.json" 's["probes"]["tip"]["displacement"]["z"] < -0.01'
+ex_check "nodal_force: ... and the reaction stays along z (x below 1e-2 of it)" \
+  "$nf/updated/summary.json" \
+  'abs(s["reactions"]["x0"]["x"]) < 1e-2 * s["reactions"]["x0"]["z"] and close(s["reactions"]["x0"]["z"], 10800, 1e-2)'
 sed -e 's/{region: x1, nodal_force: \[10, 0, "-t"\]}/{region: nowhere, nodal_force: [1, 0, 0]}/' \
   "$nf/bar.yaml" >"$nf/unknown.yaml"
 expect "nodal_force: an unknown region is an input error naming it" 1 \
