@@ -339,6 +339,23 @@ std::unique_ptr<ReferenceTable> build_table(CellType type, const QuadratureRule&
     }
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(M);
     if (cod.rank() == nc) t->extrapolation = L * cod.solve(Eigen::MatrixXd::Identity(np, np));
+    if (lin != type) {
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(np, nn);  // A(q, a): point q's weight of node a
+      if (type == CellType::hex20) {
+        Eigen::MatrixXd Nq(np, nn);
+        for (int q = 0; q < np; ++q)
+          for (int a = 0; a < nn; ++a) Nq(q, a) = t->N[static_cast<std::size_t>(q) * nn + a];
+        const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(t->weights.data(), np);
+        const Eigen::MatrixXd G = M.transpose() * w.asDiagonal() * M;
+        A = M * G.ldlt().solve(M.transpose() * w.asDiagonal() * Nq);
+      } else {
+        A.leftCols(nc) = M;
+      }
+      t->N_linear_temperature.resize(static_cast<std::size_t>(np) * nn);
+      for (int q = 0; q < np; ++q)
+        for (int a = 0; a < nn; ++a)
+          t->N_linear_temperature[static_cast<std::size_t>(q) * nn + a] = A(q, a);
+    }
   }
   return t;
 }

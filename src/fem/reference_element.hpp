@@ -47,6 +47,12 @@ struct ReferenceTable {
   /// nodes only), evaluated at every node (mid-edge nodes get the linear field there). With fewer
   /// points than corners (one-point rules) it is the mean of the point values at every node.
   Eigen::MatrixXd extrapolation;
+  /// [q*n_nodes + a]: a point's temperature from the nodes' as ccx takes it in a quadratic cell
+  /// (temperature.interpolation: linear). hex20: the cell's interpolation projected onto the
+  /// trilinear functions (least squares over the points with their weights), ccx's C3D20
+  /// (its lintemp.f holds this table, to 9 digits, for the 27 points); other quadratic cells: the
+  /// corners' values with the linear cell's functions (ccx's C3D10T). Empty for linear cells.
+  std::vector<double> N_linear_temperature;
 };
 
 /// The table for (type, quadrature(type, degree)). Built on first use and cached for the life of

@@ -12,6 +12,8 @@
 
 #include "core/suggest.hpp"
 #include "input/case_sections.hpp"
+#include "input/inp_case.hpp"
+#include "input/inp_reader.hpp"
 #include "input/yaml_source.hpp"
 #include "solve/schemes.hpp"
 
@@ -170,6 +172,8 @@ Case read_case(const fs::path& case_file, std::string* text) {
   // fs::absolute throws on an empty path: say what a missing file says.
   if (case_file.empty())
     throw InputError(SourceLocation{}, "case file not found: the path is empty (\"\")");
+  // A CalculiX/Abaqus deck is the case itself: its model and history data.
+  if (is_inp_file(case_file)) return read_deck(case_file, text).spec;
   std::string read =
       case_input::read_text(case_file.string(), fs::absolute(case_file).lexically_normal());
   Case c = read_case_text(read, case_file);

@@ -25,6 +25,7 @@ Mesh InpReader::read() {
     keyword(k, at, static_cast<int>(i + 1), static_cast<int>(end));
     i = end;
   }
+  if (history_) history_->finish(*this);
   return build();
 }
 
@@ -39,7 +40,7 @@ long InpReader::label(std::string_view s, int line, const char* what) const {
   return v;
 }
 
-double InpReader::real(std::string_view s, int line) const {
+double InpReader::real(std::string_view s, int line, const char* what) const {
   std::string t;  // only for Fortran's 1.0D+03: the usual number is parsed where it is
   if (s.find_first_of("dD") != std::string_view::npos) {
     t = s;
@@ -52,13 +53,13 @@ double InpReader::real(std::string_view s, int line) const {
   double v = 0;
   const auto [p, ec] = std::from_chars(b, e, v);
   if (ec != std::errc() || p != e || !std::isfinite(v))
-    throw fail(line, fmt::format("expected a coordinate (a finite number), found '{}'", s));
+    throw fail(line, fmt::format("expected a {} (a finite number), found '{}'", what, s));
   return v;
 }
 
 void InpReader::keyword(const Keyword& k, int at, int first, int end) {
   if (k.name.empty()) throw fail(at, "a keyword line without a keyword ('*' alone)");
-  if (k.name == "HEADING") return;
+  if (k.name == "HEADING" && !history_) return;
   if (k.name == "PART") return part(k, at);
   if (k.name == "END PART" || k.name == "END INSTANCE") {
     in_instance_ = false;
@@ -91,6 +92,7 @@ void InpReader::keyword(const Keyword& k, int at, int first, int end) {
   if (k.name == "NSET") return set(k, at, first, end, true);
   if (k.name == "ELSET") return set(k, at, first, end, false);
   if (k.name == "SURFACE") return surface(k, at, first, end);
+  if (history_) return history_->keyword(*this, k, at, first, end);
   skip("*" + k.name, at);
 }
 
@@ -200,7 +202,7 @@ void InpReader::add_element(const std::string& type, const ElementKind& ek,
   if (type != "C3D4" && type != "C3D10" && type != "C3D8" && type != "C3D20" && type != "C3D6" &&
       ek.kind == ElementKind::Kind::volume)
     ++renamed_types_[type];
-  else if (type == "C3D8" || type == "C3D6" || type == "C3D20")
+  else if (type == "C3D8" || type == "C3D6" || (type == "C3D20" && !history_))
     ++convention_types_[type];
   element_of_label_.emplace(e, static_cast<int>(elements_.size()));
   elements_.push_back({e, ek, type, static_cast<int>(conn_.size()), line});
@@ -319,6 +321,89 @@ void InpReader::surface(const Keyword& k, int at, int first, int end) {
     }
     s.items.push_back(std::move(item));
   }
+}
+
+std::vector<long> InpReader::node_targets(std::string_view target, int line) const {
+  std::vector<long> labels;
+  if (is_label(target)) {
+    const long n = label(target, line, "node label");
+    if (!node_of_label_.count(n))
+      throw fail(line, fmt::format("node {} is not defined by a *NODE", n));
+    labels.push_back(n);
+    return labels;
+  }
+  const Set& s = find_set(nsets_, target, line, "NSET");
+  for (const Member& m : s.members)
+    for (long k = 0, count = m.count(); k < count; ++k) {
+      const long n = m.label(k);
+      if (node_of_label_.count(n))
+        labels.push_back(n);
+      else if (!m.generated)
+        throw fail(m.line,
+                   fmt::format("NSET '{}' names node {}, which no *NODE defines", s.name, n));
+    }
+  return labels;
+}
+
+std::vector<long> InpReader::element_targets(std::string_view target, int line) const {
+  std::vector<long> labels;
+  if (is_label(target)) {
+    labels.push_back(label(target, line, "element label"));
+    return labels;
+  }
+  each_label(find_set(elsets_, target, line, "ELSET"), [&](long e, int) { labels.push_back(e); });
+  return labels;
+}
+
+std::vector<ElementFace> InpReader::face_targets(std::string_view target, int side, int line) {
+  std::vector<ElementFace> faces;
+  if (side > 0) {
+    for (long e : element_targets(target, line)) faces.emplace_back(e, side);
+    return faces;
+  }
+  const auto it = surfaces_.find(SurfaceKey{upper(unquote(target)), false});
+  if (it == surfaces_.end())
+    throw fail(line, fmt::format("'{}' is not an element-based *SURFACE defined before this line",
+                                 target));
+  for (const SurfaceItem& item : it->second.items) {
+    if (item.set.empty()) {
+      faces.emplace_back(item.label, item.side);
+      continue;
+    }
+    for (long e : element_targets(item.set, item.line)) {
+      if (item.side > 0) {
+        faces.emplace_back(e, item.side);
+        continue;
+      }
+      const auto el = element_of_label_.find(e);  // the set's faces on the body's outside
+      if (el == element_of_label_.end() ||
+          elements_[el->second].kind.kind != ElementKind::Kind::volume)
+        continue;
+      const Element& x = elements_[el->second];
+      for (int k = 1;; ++k) {
+        const std::span<const int> face = abaqus_face(x.kind.type, k);
+        if (face.empty()) break;
+        if (face_count().at(face_key(x, face)) == 1) faces.emplace_back(e, k);
+      }
+    }
+  }
+  return faces;
+}
+
+void InpReader::add_node_set(const std::string& name, const std::vector<long>& labels, int line) {
+  Set& s = open_set(nsets_, name, line);
+  for (long n : labels) add_member(s, {n, n, 1, line, false});
+}
+
+void InpReader::add_face_surface(const std::string& name, const std::vector<ElementFace>& faces,
+                                 int line) {
+  auto [it, fresh] = surfaces_.try_emplace(SurfaceKey{upper(name), false});
+  if (fresh) {
+    it->second.name = name;
+    it->second.line = line;
+    surface_order_.push_back(it->first);
+  }
+  for (const auto& [e, side] : faces) it->second.items.push_back({"", e, side, line});
 }
 
 }  // namespace hencky::inp

@@ -62,6 +62,24 @@ struct Element {
   int line = 0;
 };
 
+class InpReader;
+
+/// What reads the keywords of a deck that are not mesh data, when the deck is run as a case
+/// (input/inp_case.hpp): materials, conditions and steps.
+class History {
+ public:
+  virtual ~History() = default;
+  /// The keyword k of line `at`, its data lines first .. end - 1 (the reader's mesh data
+  /// before it is read).
+  virtual void keyword(InpReader& reader, const Keyword& k, int at, int first, int end) = 0;
+  /// After the last keyword, before the Mesh is built: the sets and surfaces the history
+  /// makes (InpReader::add_node_set, add_face_surface) are added here.
+  virtual void finish(InpReader& reader) = 0;
+};
+
+/// A face of an element: its label and its side, from 1 (S1 .. S6, P1 .. P6).
+using ElementFace = std::pair<long, int>;
+
 /// The deck, read keyword by keyword into nodes, elements and sets; then turned into the Mesh.
 class InpReader {
  public:
@@ -71,13 +89,41 @@ class InpReader {
   /// The Mesh of the deck. Throws InputError naming the file and line.
   Mesh read();
 
- private:
-  static constexpr std::size_t max_members = 200'000'000;
-
+  /// The deck run as a case: the keywords that are not mesh data go to `history`, not to the
+  /// warning about skipped keywords.
+  void set_history(History* history) { history_ = history; }
+  const Deck& deck() const { return deck_; }
   InputError fail(int line, const std::string& msg) const {
     return deck_.fail(deck_.lines[line], msg);
   }
-  std::string_view text(int line) const { return deck_.lines[line].text; }
+  SourceLocation where(int line) const { return fail(line, "").where(); }
+  /// How many volume elements the deck has.
+  std::size_t volume_elements() const {
+    return static_cast<std::size_t>(
+        std::count_if(elements_.begin(), elements_.end(),
+                      [](const Element& e) { return e.kind.kind == ElementKind::Kind::volume; }));
+  }
+  /// The nodes a condition's line names (of line `line`): a node label, or an NSET's labels
+  /// (those of its GENERATE ranges that no *NODE defines left out).
+  std::vector<long> node_targets(std::string_view target, int line) const;
+  /// The faces a *DLOAD line names: with `side` >= 1 that face of an element label or of each
+  /// element of an ELSET; with `side` 0, the faces of an element-based *SURFACE.
+  std::vector<ElementFace> face_targets(std::string_view target, int side, int line);
+  /// The elements a line names: an element label or an ELSET's labels.
+  std::vector<long> element_targets(std::string_view target, int line) const;
+  /// Every node label of the deck's *NODE lines.
+  const std::vector<long>& node_labels() const { return node_label_; }
+  /// A region the history makes from labels (InpReader::History::finish): a node set, an
+  /// element-based surface; `line` is where the labels come from, for messages.
+  /// `name`, or `name` with a suffix when a set or surface of the deck already has it.
+  std::string unused_name(std::string name) const {
+    while (nsets_.count(upper(name)) || elsets_.count(upper(name)) ||
+           surfaces_.count({upper(name), false}) || surfaces_.count({upper(name), true}))
+      name += "_";
+    return name;
+  }
+  void add_node_set(const std::string& name, const std::vector<long>& labels, int line);
+  void add_face_surface(const std::string& name, const std::vector<ElementFace>& faces, int line);
 
   /// The fields of data line `line`, the empty ones (a trailing comma) dropped.
   std::vector<std::string_view> data(int line) const {
@@ -89,6 +135,15 @@ class InpReader {
   static bool is_label(std::string_view s) {
     return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '+');
   }
+  long label(std::string_view s, int line, const char* what) const;
+  /// A number of line `line` (Fortran's 1.0D+03 too); `what` names it in the message.
+  double real(std::string_view s, int line, const char* what = "coordinate") const;
+
+ private:
+  static constexpr std::size_t max_members = 200'000'000;
+
+  std::string_view text(int line) const { return deck_.lines[line].text; }
+
   /// Calls f(label, line) for each label of the set's members.
   template <class F>
   void each_label(const Set& s, F&& f) const {
@@ -97,8 +152,6 @@ class InpReader {
   }
 
   // The keywords (inp_keywords.cpp).
-  long label(std::string_view s, int line, const char* what) const;
-  double real(std::string_view s, int line) const;
   /// The keyword k of line `at`, its data lines first .. end - 1.
   void keyword(const Keyword& k, int at, int first, int end);
   /// A keyword hencky does not read, listed in warn() under the file of line `at`.
@@ -135,6 +188,7 @@ class InpReader {
   const Deck& deck_;
   const MeshReadOptions& options_;
   std::vector<std::string>* warnings_;
+  History* history_ = nullptr;
 
   std::vector<long> node_label_;
   std::vector<int> node_line_;
@@ -154,7 +208,7 @@ class InpReader {
   std::vector<SurfaceKey> surface_order_;
   std::size_t total_members_ = 0;
   std::vector<std::pair<int, std::string>> skipped_;  // (file, keyword), in order met
-  std::map<std::string, long> generate_gaps_;  // NSET -> GENERATE labels of no node
+  std::map<std::string, long> generate_gaps_;         // NSET -> GENERATE labels of no node
   std::pair<long, int> extra_numbers_{0, -1};  // element lines with numbers past the nodes, first
   std::string part_name_;
   int instances_ = 0;

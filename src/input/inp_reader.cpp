@@ -297,7 +297,7 @@ void InpReader::warn() const {
                           bbar ? "hencky's B-bar strain, the volumetric strain the element's mean; "
                                  "ccx integrates them fully without it, stiffer in bending"
                                : "temperatures interpolated with the element's quadratic "
-                                 "functions; ccx fits them linearly, as temperature.interpolation: "
+                                 "functions; ccx projects them onto trilinear ones, as temperature.interpolation: "
                                  "linear does");
     }
     warnings_->push_back(file + ": elements that hencky and ccx treat differently: " + list);

@@ -3,6 +3,7 @@
 #include "core/timer.hpp"
 #include "input/case_reader.hpp"
 #include "input/gmsh_reader.hpp"
+#include "input/inp_case.hpp"
 #include "input/inp_reader.hpp"
 
 namespace hencky {
@@ -21,6 +22,11 @@ namespace {
 
 /// The case's mesh, read (or meshed), its readers' warnings logged.
 Mesh read_mesh(const Case& spec, Log& log) {
+  if (is_inp_file(spec.file)) {  // a deck run as a case: its mesh with the history's regions
+    DeckRead deck = read_deck(spec.file);
+    for (const auto& line : deck.warnings) log.warn(line);
+    return std::move(deck.mesh);
+  }
   MeshReadOptions opt;
   opt.order = spec.mesh.order;
   opt.scale = spec.mesh.scale;

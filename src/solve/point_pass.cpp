@@ -72,20 +72,14 @@ void PointPass::temperatures(State& s, Log& log) const {
     const auto& tab = reference_table(mesh.cells.type[e]);
     const auto& mat = m_.material_of(e);
     const int mi = m_.material_index(e);
-    // temperature.interpolation: linear, in a quadratic cell: the corners' values with the
-    // linear cell's functions at the point (the corners come first in a cell's nodes).
-    const CellType linear = cell_linear(mesh.cells.type[e]);
-    const bool corners_only = linear_temperature && linear != mesh.cells.type[e];
-    double N_linear[max_cell_nodes];
+    // temperature.interpolation: linear, in a quadratic cell: ccx's weights of the nodes'
+    // temperatures (ReferenceTable::N_linear_temperature).
+    const bool as_ccx = linear_temperature && !tab.N_linear_temperature.empty();
     for (int q = 0; q < tab.n_points; ++q) {
-      const double* N = &tab.N[static_cast<std::size_t>(q) * tab.n_nodes];
+      const double* N =
+          &(as_ccx ? tab.N_linear_temperature : tab.N)[static_cast<std::size_t>(q) * tab.n_nodes];
       double T = 0;
-      if (corners_only) {
-        shape_values(linear, tab.points[q].data(), N_linear);
-        for (int a = 0; a < cell_n_nodes(linear); ++a) T += N_linear[a] * s.nodal_temperature[nodes[a]];
-      } else {
-        for (std::size_t a = 0; a < nodes.size(); ++a) T += N[a] * s.nodal_temperature[nodes[a]];
-      }
+      for (std::size_t a = 0; a < nodes.size(); ++a) T += N[a] * s.nodal_temperature[nodes[a]];
       const int p = m_.point_offset(e) + q;
       s.temperature[p] = T;
       s.constants[p] = mat.at(T);
@@ -154,10 +148,10 @@ PointUpdate PointPass::scheme_update(const State& c, State& trial, int p, const 
       d_eps - thermal_strain_increment(c.constants[p], c.temperature[p], trial.constants[p],
                                        trial.temperature[p], sigma0);
   PointUpdate u = mode == PointMode::initial
-                      ? scheme_.evaluate_initial(trial.constants[p], point_step_[p],
-                                                 point_iter_[p], sigma0, d_mech)
-                      : scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p],
-                                         sigma0, d_mech, law_state(c, trial, p));
+                      ? scheme_.evaluate_initial(trial.constants[p], point_step_[p], point_iter_[p],
+                                                 sigma0, d_mech)
+                      : scheme_.evaluate(trial.constants[p], point_step_[p], point_iter_[p], sigma0,
+                                         d_mech, law_state(c, trial, p));
   point_iter_[p] = u.next;
   take_plastic_update(c, trial, p, u);
   return u;
@@ -193,9 +187,9 @@ void PointPass::begin_step(const State& c, const State& trial) {
       at.eps_ep = c.eps_ep[p];
       at.eps_ep_max = c.eps_ep_max[p];
       at.flowing = c.flowing[p] != 0;
-      point_step_[p] = scheme_.begin_point_step(trial.constants[p], *mat.law, *mat.hardening,
-                                                trial.temperature[p], mat.elastic_unloading, at,
-                                                point_iter_[p]);
+      point_step_[p] =
+          scheme_.begin_point_step(trial.constants[p], *mat.law, *mat.hardening,
+                                   trial.temperature[p], mat.elastic_unloading, at, point_iter_[p]);
     }
   }
 }
@@ -278,7 +272,8 @@ PointPassResult PointPass::update(const State& c, State& trial, const std::vecto
             // σ = RτRᵀ/J with J = J(t)·det F, so that the next step's τ(t) = Jσ is the law's τ.
             // It is J⁻¹FSFᵀ, but in a B-bar cell, whose S is that of C̄ and not of C.
             const Mat3 r = def.rotation(q);
-            trial.stress[p] = rotate_stress(r, trial.stress[p]) / (start_volume_ratio_[p] * def.J[q]);
+            trial.stress[p] =
+                rotate_stress(r, trial.stress[p]) / (start_volume_ratio_[p] * def.J[q]);
             if (plastic) {
               trial.plastic_strain[p] = rotate_strain(r, trial.plastic_strain[p]);
               rotate_law_state(*mat.law, r, trial, p);

@@ -129,9 +129,10 @@ struct TemperatureSpec {
   std::optional<Expression> field;
   std::optional<TemperatureFile> file;  ///< when given
   bool from_heat = false;               ///< `from: heat`: the heat section's solution
-  /// `interpolation: linear`: in quadratic cells the integration points' temperatures come from
-  /// the corner nodes with the linear cell's functions, as ccx fits them (default `element`:
-  /// the cell's own functions, mid-edge nodes included).
+  /// `interpolation: linear`: in quadratic cells the integration points' temperatures are as ccx
+  /// takes them (ReferenceTable::N_linear_temperature: a 20-node hexahedron's field projected
+  /// onto the trilinear functions, a 10-node tetrahedron's corners with the linear functions);
+  /// default `element`: the cell's own functions, mid-edge nodes included.
   bool linear_in_quadratic_cells = false;
   SourceLocation where;                 ///< the temperature section
   SourceLocation reference_where;       ///< the value of temperature.reference

@@ -1,0 +1,125 @@
+#pragma once
+// The translation of a deck's materials, conditions and steps into a Case (input/inp_case.hpp):
+// the keywords read as the mesh reader meets them (inp_history.cpp), then the conditions resolved
+// per node, degree of freedom and face over the steps and grouped into the case's boundary
+// entries (inp_history_case.cpp).
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "input/inp_parser.hpp"
+#include "spec/case.hpp"
+
+namespace hencky::inp {
+
+/// One *STEP of the deck: its time span in the deck's total time and its increments.
+struct DeckStep {
+  double start = 0, end = 1;  ///< total time at its start and end
+  double increment = 1;       ///< the first increment of *STATIC (DIRECT: every increment)
+  bool nlgeom = false;
+  int line = 0;  ///< the *STEP line
+};
+
+/// An *AMPLITUDE: a piecewise-linear factor over the step's time (or the total time).
+struct Amplitude {
+  std::vector<double> time, value;
+  bool total_time = false;  ///< TIME=TOTAL TIME
+  int line = 0;
+};
+
+/// The value of one condition (a load at a node and direction, a pressure on a face, a
+/// prescribed displacement, a temperature) in each step: the value it reaches (ramped from the
+/// last step's end), or that value times an amplitude.
+struct Course {
+  struct InStep {
+    bool set = false;    ///< defined in this step (else: 0 for a load, free for a displacement)
+    bool given = false;  ///< given by a line of this step (not carried from the last one)
+    double value = 0;
+    int amplitude = -1;  ///< index into DeckCase::amplitudes_, -1: ramped (the *STATIC default)
+    int line = 0;        ///< where it was last given
+  };
+  std::vector<InStep> step;  ///< one per step, filled up to the current one
+};
+
+/// The keyword-by-keyword reader of a deck's non-mesh data, and what it makes of it.
+class DeckCase final : public History {
+ public:
+  explicit DeckCase(Case& spec) : spec_(spec) {}
+  void keyword(InpReader& reader, const Keyword& k, int at, int first, int end) override;
+  void finish(InpReader& reader) override;
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  struct Material {
+    MaterialSpec spec;
+    int line = 0;
+    double expansion_zero = 0;  ///< *EXPANSION, ZERO=
+    bool used = false;
+  };
+  using NodeDof = std::pair<long, int>;  ///< node label, direction 0 .. 2
+
+  // Reading (inp_history.cpp).
+  std::vector<std::vector<double>> numbers(const InpReader& r, int first, int end) const;
+  void refuse(const InpReader& r, int at, const std::string& why);
+  void note(const InpReader& r, int at, const std::string& what);
+  Material& current_material(const InpReader& r, const Keyword& k, int at);
+  void material_keyword(InpReader& r, const Keyword& k, int at, int first, int end);
+  void elastic(InpReader& r, const Keyword& k, int at, int first, int end);
+  void plastic(InpReader& r, const Keyword& k, int at, int first, int end);
+  void section(InpReader& r, const Keyword& k, int at, int first, int end);
+  void initial_conditions(InpReader& r, const Keyword& k, int at, int first, int end);
+  void amplitude(InpReader& r, const Keyword& k, int at, int first, int end);
+  void step(InpReader& r, const Keyword& k, int at);
+  void statik(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// The amplitude a condition keyword names (-1: none); `op_new` from OP=NEW.
+  int condition_options(InpReader& r, const Keyword& k, int at, bool& op_new,
+                        const std::vector<std::string>& allowed);
+  void boundary(InpReader& r, const Keyword& k, int at, int first, int end);
+  void cload(InpReader& r, const Keyword& k, int at, int first, int end);
+  void dload(InpReader& r, const Keyword& k, int at, int first, int end);
+  void temperature(InpReader& r, const Keyword& k, int at, int first, int end);
+  void output_request(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// The course of a condition, with a slot for the current step.
+  Course::InStep& in_step(std::map<NodeDof, Course>& courses, const NodeDof& key);
+  Course::InStep& in_step(Course& c);
+  int step_index() const { return static_cast<int>(steps_.size()) - 1; }
+
+  // The Case (inp_history_case.cpp).
+  /// The value of the course at total time t, as ccx ramps it, as a muparser expression of t.
+  std::string expression(const Course& c) const;
+  double value_at_end(const Course& c, int s) const;
+  std::string amplitude_expression(const Amplitude& a, double start) const;
+  void build_materials(InpReader& r);
+  void build_steps();
+  void build_boundary(InpReader& r);
+  void build_loads(InpReader& r);
+  void build_temperature(InpReader& r);
+
+  Case& spec_;
+  std::vector<std::string> warnings_;
+  std::vector<std::string> refusals_;  ///< "file:line: *KEYWORD: why"
+  int first_refusal_ = -1;
+  std::vector<Material> materials_;
+  int material_ = -1;                        ///< the *MATERIAL the property keywords belong to
+  std::map<std::string, int> amplitude_of_;  ///< by upper-case name
+  std::vector<Amplitude> amplitudes_;
+  std::vector<DeckStep> steps_;
+  bool in_step_ = false, step_has_procedure_ = false;
+  /// Conditions per node and direction (displacements, nodal loads), per face (pressures) and
+  /// per node (temperatures); a condition of the model data belongs to the first step.
+  std::map<NodeDof, Course> displacement_, cload_;
+  std::map<ElementFace, Course> pressure_;
+  std::map<long, Course> temperature_;
+  std::map<long, double> initial_temperature_;
+  int initial_line_ = -1;
+  struct Gravity {
+    std::array<double, 3> g{0, 0, 0};
+    int line = 0;
+    int step = 0;
+  };
+  std::vector<Gravity> gravity_;
+  std::map<std::string, int> notes_;  ///< output requests and the like: warned once each
+};
+
+}  // namespace hencky::inp

@@ -1,0 +1,373 @@
+// The deck's conditions resolved over its steps and grouped into the Case's boundary entries,
+// materials and steps (input/inp_history.hpp); read_deck (input/inp_case.hpp).
+//
+// CalculiX's meaning (User's Manual, ccx 2.20, sections 7.x on *STATIC, *BOUNDARY, *CLOAD,
+// *DLOAD, *TEMPERATURE, *AMPLITUDE): the deck's total time runs through the steps one after
+// another; in a *STATIC step a condition goes linearly from its value at the last step's end to
+// the value the step gives it (a load never given starts at 0), or, with an AMPLITUDE, is that
+// value times the amplitude; a condition a step does not name keeps its value; OP=NEW removes the
+// conditions of its kind that the step does not name again (a load then goes to 0 over the step).
+// A condition is resolved per node and direction (per face for a pressure), as ccx keeps it,
+// and the nodes (faces) that follow the same course over time form one region of the case.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "input/inp_case.hpp"
+#include "input/inp_history.hpp"
+#include "input/inp_reader.hpp"
+
+namespace hencky {
+
+namespace fs = std::filesystem;
+
+namespace inp {
+
+namespace {
+
+/// A number as muparser reads it back to the last bit; negative ones in parentheses.
+std::string num(double v) {
+  return v < 0 ? fmt::format("({:.17g})", v) : fmt::format("{:.17g}", v);
+}
+
+/// Pieces of a function of t over consecutive intervals ending at `ends`, the last one open:
+/// one expression, the same pieces merged.
+std::string piecewise(const std::vector<double>& ends, const std::vector<std::string>& pieces) {
+  std::string e = pieces.back();
+  for (std::size_t i = pieces.size() - 1; i-- > 0;)
+    if (pieces[i] != e) e = fmt::format("(t <= {} ? {} : {})", num(ends[i]), pieces[i], e);
+  return e;
+}
+
+}  // namespace
+
+double DeckCase::value_at_end(const Course& c, int s) const {
+  const Course::InStep& st = c.step[static_cast<std::size_t>(s)];
+  if (!st.set) return 0;
+  if (st.amplitude < 0) return st.value;
+  const Amplitude& a = amplitudes_[static_cast<std::size_t>(st.amplitude)];
+  const DeckStep& step = steps_[static_cast<std::size_t>(s)];
+  const double tau = a.total_time ? step.end : step.end - step.start;
+  if (tau <= a.time.front()) return st.value * a.value.front();
+  if (tau >= a.time.back()) return st.value * a.value.back();
+  const std::size_t i = static_cast<std::size_t>(
+      std::upper_bound(a.time.begin(), a.time.end(), tau) - a.time.begin());
+  const double w = (tau - a.time[i - 1]) / (a.time[i] - a.time[i - 1]);
+  return st.value * (a.value[i - 1] + w * (a.value[i] - a.value[i - 1]));
+}
+
+std::string DeckCase::amplitude_expression(const Amplitude& a, double start) const {
+  // In the step's own time τ = t − start unless TIME=TOTAL TIME; constant beyond its ends.
+  const double shift = a.total_time ? 0.0 : start;
+  std::vector<double> ends;
+  std::vector<std::string> pieces;
+  ends.push_back(a.time.front() + shift);
+  pieces.push_back(num(a.value.front()));
+  for (std::size_t i = 0; i + 1 < a.time.size(); ++i) {
+    const double t0 = a.time[i] + shift, t1 = a.time[i + 1] + shift;
+    ends.push_back(t1);
+    pieces.push_back(fmt::format("({} + {}*(t - {})/{})", num(a.value[i]),
+                                 num(a.value[i + 1] - a.value[i]), num(t0), num(t1 - t0)));
+  }
+  pieces.push_back(num(a.value.back()));
+  return piecewise(ends, pieces);
+}
+
+std::string DeckCase::expression(const Course& c) const {
+  std::vector<double> ends;
+  std::vector<std::string> pieces;
+  for (std::size_t s = 0; s < steps_.size(); ++s) {
+    const Course::InStep& st = c.step[s];
+    const DeckStep& step = steps_[s];
+    ends.push_back(step.end);
+    if (!st.set) {
+      pieces.push_back("0");
+    } else if (st.amplitude >= 0) {
+      pieces.push_back(fmt::format(
+          "{}*{}", num(st.value),
+          amplitude_expression(amplitudes_[static_cast<std::size_t>(st.amplitude)], step.start)));
+    } else {
+      const double before = s == 0 ? 0.0 : value_at_end(c, static_cast<int>(s) - 1);
+      pieces.push_back(before == st.value ? num(st.value)
+                                          : fmt::format("({} + {}*(t - {})/{})", num(before),
+                                                        num(st.value - before), num(step.start),
+                                                        num(step.end - step.start)));
+    }
+  }
+  return piecewise(ends, pieces);
+}
+
+void DeckCase::build_steps() {
+  std::vector<double> times;
+  bool nlgeom = false;
+  for (const DeckStep& s : steps_) {
+    const double period = s.end - s.start;
+    const long n = std::max(1L, static_cast<long>(std::ceil(period / s.increment - 1e-9)));
+    if (static_cast<long>(times.size()) + n > max_steps)
+      throw InputError(spec_.mesh.where,
+                       fmt::format("the steps' increments make more than {} steps", max_steps));
+    for (long k = 1; k <= n; ++k)
+      times.push_back(k == n ? s.end
+                             : s.start + period * static_cast<double>(k) / static_cast<double>(n));
+    nlgeom = nlgeom || s.nlgeom;
+  }
+  spec_.solver.times = StepTimes::list(times);
+  spec_.solver.updated_geometry = nlgeom;
+}
+
+void DeckCase::build_materials(InpReader& r) {
+  for (Material& m : materials_) {
+    if (!m.used) continue;
+    if (m.spec.E.value.empty())
+      throw r.fail(m.line, fmt::format("material '{}' has no *ELASTIC", m.spec.name));
+    if (m.spec.alpha.value.empty()) {  // no *EXPANSION: none
+      m.spec.alpha.value = {0.0};
+      m.spec.alpha.where = m.spec.where;
+    }
+    spec_.materials.push_back(m.spec);
+  }
+  if (spec_.materials.empty())
+    throw InputError(SourceLocation{spec_.file.string(), 0, 0, ""},
+                     "the deck has no *SOLID SECTION: no element has a material");
+}
+
+void DeckCase::build_boundary(InpReader& r) {
+  // Per node, the courses of its three directions; the nodes of one course form a region.
+  std::map<long, std::array<const Course*, 3>> by_node;
+  for (auto& [key, c] : displacement_) {
+    in_step(c);
+    for (std::size_t s = 0; s < c.step.size(); ++s) {
+      const bool before = s == 0 || c.step[s - 1].set;
+      if (c.step[s].set && !before)
+        refuse(r, c.step[s].line,
+               fmt::format("*BOUNDARY: node {} direction {} is held from step {} on; hencky holds "
+                           "a prescribed displacement from the start of the run (give it in "
+                           "the first step)",
+                           key.first, key.second + 1, s + 1));
+      if (!c.step[s].set && s > 0 && c.step[s - 1].set)
+        refuse(r, c.step[s - 1].line,
+               fmt::format("*BOUNDARY: node {} direction {} is released in step {} (OP=NEW); "
+                           "hencky holds a prescribed displacement to the end of the run",
+                           key.first, key.second + 1, s + 1));
+    }
+    if (c.step.front().set) by_node[key.first][static_cast<std::size_t>(key.second)] = &c;
+  }
+  std::map<std::array<std::string, 3>, std::pair<std::vector<long>, int>> groups;
+  for (const auto& [node, dirs] : by_node) {
+    std::array<std::string, 3> e;
+    int line = 0;
+    for (std::size_t d = 0; d < 3; ++d)
+      if (dirs[d]) {
+        e[d] = expression(*dirs[d]);
+        line = dirs[d]->step.front().line;
+      }
+    auto& g = groups[e];
+    if (g.first.empty()) g.second = line;
+    g.first.push_back(node);
+  }
+  int k = 0;
+  for (const auto& [e, g] : groups) {
+    BoundarySpec b;
+    b.region = r.unused_name(fmt::format("BOUNDARY-{}", ++k));
+    b.kind = BoundaryKind::displacement;
+    b.where = r.where(g.second);
+    for (std::size_t d = 0; d < 3; ++d)
+      if (!e[d].empty()) b.components[d] = Expression::parse(e[d], b.where);
+    r.add_node_set(b.region, g.first, g.second);
+    spec_.output.reactions.push_back(b.region);
+    spec_.output.reaction_where.push_back(b.where);
+    spec_.boundary.push_back(std::move(b));
+  }
+}
+
+void DeckCase::build_loads(InpReader& r) {
+  std::map<long, std::array<std::string, 3>> by_node;
+  std::map<long, int> line_of;
+  for (auto& [key, c] : cload_) {
+    in_step(c);
+    const std::string zero = "0";
+    auto& e =
+        by_node.try_emplace(key.first, std::array<std::string, 3>{zero, zero, zero}).first->second;
+    e[static_cast<std::size_t>(key.second)] = expression(c);
+    line_of[key.first] = c.step.back().line;
+  }
+  std::map<std::array<std::string, 3>, std::vector<long>> groups;
+  for (const auto& [node, e] : by_node)
+    if (e != std::array<std::string, 3>{"0", "0", "0"}) groups[e].push_back(node);
+  int k = 0;
+  for (const auto& [e, nodes] : groups) {
+    BoundarySpec b;
+    b.region = r.unused_name(fmt::format("CLOAD-{}", ++k));
+    b.kind = BoundaryKind::nodal_force;
+    b.where = r.where(line_of.at(nodes.front()));
+    for (std::size_t d = 0; d < 3; ++d) b.components[d] = Expression::parse(e[d], b.where);
+    r.add_node_set(b.region, nodes, line_of.at(nodes.front()));
+    spec_.boundary.push_back(std::move(b));
+  }
+  std::map<std::string, std::pair<std::vector<ElementFace>, int>> faces;
+  for (auto& [face, c] : pressure_) {
+    in_step(c);
+    const std::string e = expression(c);
+    if (e == "0") continue;
+    auto& g = faces[e];
+    if (g.first.empty()) g.second = c.step.back().line;
+    g.first.push_back(face);
+  }
+  k = 0;
+  for (const auto& [e, g] : faces) {
+    BoundarySpec b;
+    b.region = r.unused_name(fmt::format("DLOAD-{}", ++k));
+    b.kind = BoundaryKind::pressure;
+    b.where = r.where(g.second);
+    b.pressure = Expression::parse(e, b.where);
+    r.add_face_surface(b.region, g.first, g.second);
+    spec_.boundary.push_back(std::move(b));
+  }
+  if (gravity_.empty()) return;
+  const Gravity& g = gravity_.front();
+  if (gravity_.size() > 1)
+    return refuse(r, gravity_[1].line, "a second GRAV load: hencky reads one");
+  const PropertyTable& rho = spec_.materials.front().density;
+  for (const MaterialSpec& m : spec_.materials)
+    if (m.density.value.size() != 1 || m.density.value != rho.value)
+      return refuse(r, g.line,
+                    "GRAV needs one constant *DENSITY for every material (hencky's body force is "
+                    "one force per volume)");
+  Course ramp;  // 0 before the step of the GRAV line, ramped to 1 over it, 1 after
+  ramp.step.resize(steps_.size());
+  for (std::size_t s = static_cast<std::size_t>(g.step); s < steps_.size(); ++s)
+    ramp.step[s] = {true, true, 1.0, -1, g.line};
+  const std::string factor = expression(ramp);
+  std::array<Expression, 3> f;
+  for (std::size_t d = 0; d < 3; ++d)
+    f[d] = Expression::parse(fmt::format("{}*{}", num(rho.value[0] * g.g[d]), factor),
+                             r.where(g.line));
+  spec_.body_force = f;
+}
+
+void DeckCase::build_temperature(InpReader& r) {
+  TemperatureSpec& ts = spec_.temperature;
+  bool tables = false;
+  for (const MaterialSpec& m : spec_.materials)
+    tables = tables || !m.E.is_constant() || !m.nu.is_constant() || !m.alpha.is_constant() ||
+             (m.plasticity && m.plasticity->curve.tables.size() > 1);
+  if (temperature_.empty() && initial_temperature_.empty() && !tables) return;
+  ts.given = true;
+  ts.linear_in_quadratic_cells = true;  // as ccx takes a quadratic element's temperatures
+  ts.where = ts.field_where = ts.reference_where =
+      initial_line_ >= 0 ? r.where(initial_line_) : SourceLocation{spec_.file.string(), 0, 0, ""};
+  const std::vector<long>& labels = r.node_labels();
+  auto initial = [&](long n) {
+    const auto it = initial_temperature_.find(n);
+    return it == initial_temperature_.end() ? 0.0 : it->second;
+  };
+  double lo = INFINITY, hi = -INFINITY;
+  for (long n : labels) {
+    lo = std::min(lo, initial(n));
+    hi = std::max(hi, initial(n));
+  }
+  ts.reference = labels.empty() ? 0.0 : lo;
+  bool expands = false;
+  for (const Material& m : materials_) {
+    if (!m.used) continue;
+    const auto& a = m.spec.alpha.value;
+    const bool any = std::any_of(a.begin(), a.end(), [](double v) { return v != 0; });
+    expands = expands || any;
+    if (any && !m.spec.alpha.is_constant() && m.expansion_zero != ts.reference)
+      refuse(r, m.line,
+             fmt::format("material '{}': *EXPANSION over temperature with ZERO={:g} and the "
+                         "initial temperature {:g}: hencky's thermal strain is "
+                         "alpha(T)*T - alpha(T0)*T0, ccx's with ZERO=T0 (give ZERO= the initial "
+                         "temperature, or 0)",
+                         m.spec.name, m.expansion_zero, ts.reference));
+  }
+  if (lo != hi && expands)
+    refuse(r, initial_line_,
+           fmt::format("*INITIAL CONDITIONS: the initial temperatures range from {:g} to {:g}; "
+                       "hencky's stress-free temperature is one value for the body",
+                       lo, hi));
+  if (temperature_.empty() && lo == hi) {
+    ts.field = Expression(ts.reference);
+    return;
+  }
+  // The nodal temperatures at the start and at each step's end, linear in time between.
+  TemperatureFile file;
+  file.path = spec_.file;
+  file.times.push_back(0.0);
+  for (const DeckStep& s : steps_) file.times.push_back(s.end);
+  file.node_tags = labels;
+  file.values.reserve(labels.size() * file.times.size());
+  for (long n : labels) {
+    const double T0 = initial(n);
+    file.values.push_back(T0);
+    auto it = temperature_.find(n);
+    if (it != temperature_.end()) in_step(it->second);
+    for (std::size_t s = 0; s < steps_.size(); ++s)
+      file.values.push_back(
+          it != temperature_.end() && it->second.step[s].set ? it->second.step[s].value : T0);
+  }
+  ts.file = std::move(file);
+}
+
+void DeckCase::finish(InpReader& r) {
+  if (in_step_) refuse(r, steps_.back().line, "*STEP without its *END STEP");
+  if (steps_.empty())
+    throw InputError(SourceLocation{spec_.file.string(), 0, 0, ""},
+                     "the deck has no *STEP: nothing to solve (a deck run as a case needs its "
+                     "history, *STEP .. *END STEP)");
+  if (spec_.title.empty()) spec_.title = spec_.file.stem().string();
+  build_steps();
+  build_materials(r);
+  build_boundary(r);
+  build_loads(r);
+  build_temperature(r);
+  for (std::size_t s = 0; s < steps_.size(); ++s)
+    if (steps_[s].nlgeom && !steps_.front().nlgeom)
+      refuse(r, steps_[s].line,
+             fmt::format("NLGEOM from step {} on: hencky's geometry is updated in every step or "
+                         "in none (give NLGEOM in the first step)",
+                         s + 1));
+  if (!refusals_.empty()) {
+    std::string list;
+    for (const auto& x : refusals_) list += "\n  " + x;
+    throw InputError(r.where(first_refusal_),
+                     fmt::format("the deck asks for {} thing{} hencky cannot do; nothing was "
+                                 "solved:{}",
+                                 refusals_.size(), refusals_.size() > 1 ? "s" : "", list));
+  }
+}
+
+}  // namespace inp
+
+DeckRead read_deck(const fs::path& file, std::string* text) {
+  const fs::path path = fs::absolute(file).lexically_normal();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot open the deck");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  std::string own = ss.str();
+  DeckRead d;
+  d.spec.file = path;
+  d.spec.mesh.file = path;
+  d.spec.mesh.where = SourceLocation{file.string(), 0, 0, ""};
+  d.spec.output.dir = path.parent_path() / (path.stem().string() + ".out");
+  d.spec.output.dir_where = d.spec.mesh.where;
+  inp::Deck deck;
+  deck.names.push_back(file.string());
+  deck.add(own, 0, 0);
+  const MeshReadOptions options;
+  std::vector<std::string> mesh_warnings;
+  inp::InpReader reader(deck, options, &mesh_warnings);
+  inp::DeckCase history(d.spec);
+  reader.set_history(&history);
+  d.mesh = reader.read();
+  d.warnings = history.warnings();
+  d.warnings.insert(d.warnings.end(), mesh_warnings.begin(), mesh_warnings.end());
+  if (text) *text = std::move(own);
+  return d;
+}
+
+}  // namespace hencky

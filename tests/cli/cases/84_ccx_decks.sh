@@ -1,0 +1,85 @@
+# Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh).
+# Issue 48, item 1: `hencky run MODEL.inp` runs a CalculiX/Abaqus deck as it is, model and
+# history data, with no case file. Checked against CalculiX's own test decks (Debian's
+# calculix-ccx-test) and their .dat.ref, and against ccx 2.20 itself (calculix-ccx) on variants
+# of them; both packages are installed by scripts/packages.txt.
+cd_="$work/ccx-decks"
+rm -rf "$cd_" && mkdir -p "$cd_"
+suite=/usr/share/doc/calculix-ccx-test/examples/test
+if [ ! -f "$suite/beam10p.inp.gz" ] || ! command -v ccx >/dev/null; then
+  bad "ccx decks: calculix-ccx-test or calculix-ccx is missing (scripts/setup.sh installs them)"
+  return 0
+fi
+for d in beam8p beam10p beamd beam20t beampiso; do zcat "$suite/$d.inp.gz" >"$cd_/$d.inp"; done
+# Each deck against its .dat.ref (the last step's displacements of every node), to a bound set
+# by what the two codes do differently (measured 2026-11-28; docs/verification.md, section 20):
+# - beam10p (C3D10, *CLOAD, single-label *BOUNDARY): the same element: 5.7e-8, the .dat.ref's
+#   7 printed digits;
+# - beam20t (C3D20, temperature tables of E and alpha, *TEMPERATURE on node sets): 2.2e-7, with
+#   the temperatures projected onto trilinear functions as ccx's C3D20 takes them (9.4e-2 with
+#   the quadratic field);
+# - beamd (C3D20R, *DLOAD P2): ccx's reduced integration against hencky's full one: 3.5e-3
+#   (1.3e-7 when ccx runs it as C3D20, below);
+# - beam8p (C3D8, *CLOAD): hencky's B-bar against ccx's plain full integration: 3.2e-2;
+# - beampiso (C3D20R, *PLASTIC, NLGEOM, two steps, the load reversed): 3.4e-2, the two codes'
+#   finite-strain plasticity (2.5e-7 without NLGEOM, below).
+for case in "beam10p 2e-7" "beam20t 1e-6" "beamd 5e-3" "beam8p 4e-2" "beampiso 4e-2"; do
+  set -- $case
+  expect "ccx decks: $1.inp runs as given" 0 "" -- run "$cd_/$1.inp" --quiet
+  out="$("$ex_py" "$src/tests/tools/ccx_dat.py" "$cd_/$1.out" "$suite/$1.dat.ref.gz" "$cd_/$1.inp" "$2" 2>&1)" &&
+    ok "ccx decks: $1's displacements are its .dat.ref's to $2 ($out)" ||
+    bad "ccx decks: $1's displacements are not its .dat.ref's to $2" "$out"
+done
+# The variants, run through ccx as well: the same element in both codes.
+peer() {  # peer NAME BOUND WHAT: NAME.inp through ccx and hencky, displacements compared
+  (cd "$cd_" && ccx -i "$1" >"$1.ccx.log" 2>&1) || { bad "ccx decks: ccx failed on $1" "$(tail -5 "$cd_/$1.ccx.log")"; return; }
+  expect "ccx decks: $1.inp runs" 0 "" -- run "$cd_/$1.inp" --quiet
+  local out
+  out="$("$ex_py" "$src/tests/tools/ccx_dat.py" "$cd_/$1.out" "$cd_/$1.dat" "$cd_/$1.inp" "$2" 2>&1)" &&
+    ok "ccx decks: $3 as ccx's to $2 ($out)" || bad "ccx decks: $3 not as ccx's to $2" "$out"
+}
+sed -e 's/C3D20R/C3D20 /' "$cd_/beamd.inp" >"$cd_/beamd20.inp"
+peer beamd20 1e-6 "beamd as C3D20: the face pressure P2"
+# beampiso without NLGEOM: isotropic hardening, the load reversed in the second step (OP=MOD
+# replaces each node's value; the second step ramps from the first one's end).
+sed -e 's/^\*STEP,NLGEOM/*STEP/' "$cd_/beampiso.inp" >"$cd_/beampiso-small.inp"
+peer beampiso-small 1e-6 "beampiso without NLGEOM: plastic, loaded and reversed over two steps"
+# An amplitude, a second step with OP=NEW and a *BOUNDARY with a value: beam10p's load follows
+# the amplitude to half its value in step 1 (of time 2), with its tip node 12 held along z;
+# step 2 removes the load and pulls node 12 by 0.01 along z instead.
+awk '/^\*STEP/ && !done {print "*BOUNDARY\n12,3,3\n*AMPLITUDE,NAME=HALF\n0.,0.,2.,0.5"; done=1} {print}' "$cd_/beam10p.inp" |
+  sed -e 's/^\*STATIC$/*STATIC\n1.,2./' -e 's/^\*CLOAD$/*CLOAD,AMPLITUDE=HALF/' >"$cd_/beam10p-history.inp"
+cat >>"$cd_/beam10p-history.inp" <<'DECK'
+*STEP
+*STATIC
+*CLOAD,OP=NEW
+*BOUNDARY
+12,3,3,0.01
+*NODE PRINT,NSET=NALL
+U
+*END STEP
+DECK
+awk '{print} /^\*END STEP/{exit}' "$cd_/beam10p-history.inp" >"$cd_/beam10p-amplitude.inp"
+peer beam10p-amplitude 1e-6 "the first step alone: the load at half its value by the amplitude"
+peer beam10p-history 1e-6 "an amplitude, OP=NEW and a prescribed displacement over two steps"
+ex_check "ccx decks: ... 2 steps of the deck, 3 of hencky (the first one's two 1 s increments)" \
+  "$cd_/beam10p-history.out/summary.json" 's["steps"] == 3 and s["title"] == "beam10p-history"'
+# The output directory is MODEL.out beside the deck; -o moves it.
+[ -f "$cd_/beam10p.out/results.pvd" ] && ok "ccx decks: the outputs are in MODEL.out beside the deck" ||
+  bad "ccx decks: no beam10p.out/results.pvd beside the deck"
+expect "ccx decks: check lists the regions the history made" 0 "BOUNDARY-1 \(0D\).*CLOAD-1 \(0D\)" -- \
+  check "$cd_/beam10p.inp"
+# What hencky cannot do is refused before solving: every keyword with its file and line, nothing
+# written.
+sed -e 's/^\*STEP$/*STEP\n*FREQUENCY\n10/' -e 's/^\*CLOAD$/*CLOAD,FOLLOWER/' "$cd_/beam10p.inp" >"$cd_/refused.inp"
+printf '*STEP\n*HEAT TRANSFER\n*END STEP\n' >>"$cd_/refused.inp"
+out="$("$bin" run "$cd_/refused.inp" --quiet 2>&1)"
+rc=$?
+[ "$rc" -eq 1 ] &&
+  grep -Eq "^error: .*refused\.inp:[0-9]+: the deck asks for 4 things hencky cannot do; nothing was solved:$" <<<"$out" &&
+  grep -Eq "^  refused\.inp:[0-9]+: \*FREQUENCY: " <<<"$out" &&
+  grep -Eq "^  refused\.inp:[0-9]+: \*CLOAD, FOLLOWER: " <<<"$out" &&
+  grep -Eq "^  refused\.inp:[0-9]+: \*HEAT TRANSFER: " <<<"$out" &&
+  ok "ccx decks: a deck asking what hencky cannot do is refused (exit 1), each keyword with its line" ||
+  bad "ccx decks: the refused deck's exit or message (exit $rc)" "$out"
+[ ! -e "$cd_/refused.out" ] && ok "ccx decks: ... and nothing is written" || bad "ccx decks: a refused deck wrote refused.out"
