@@ -22,6 +22,7 @@
 #include "hencky/version.hpp"
 #include "input/gmsh_child.hpp"
 #include "input/gmsh_reader.hpp"
+#include "input/inp_reader.hpp"
 #include "input/load_case.hpp"
 #include "linalg/blas_kernels.hpp"
 #include "parallel/mpi.hpp"
@@ -106,10 +107,32 @@ bool set_threads(bool given, int threads, std::string& warning) {
   return true;
 }
 
+/// `hencky ccx -i JOB`: the deck JOB.inp (JOB may name it with its extension too).
+std::string ccx_deck(const std::string& job) {
+  return is_inp_file(job) ? job : job + ".inp";
+}
+
+/// `hencky ccx -i JOB`: JOB.dat and JOB.frd beside the deck, where ccx writes them, copied from
+/// the run's output directory JOB.out (a front end that calls ccx reads them there).
+void copy_ccx_files(const std::string& deck) {
+  const fs::path inp(deck), out = fs::path(deck).replace_extension(".out");
+  for (const char* ext : {".dat", ".frd"}) {
+    const fs::path from = out / fs::path(inp.filename()).replace_extension(ext);
+    const fs::path to = fs::path(inp).replace_extension(ext);
+    std::error_code ec;
+    if (fs::exists(from, ec)) fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    if (ec)
+      std::cerr << "warning: cannot copy " << from.string() << " to " << to.string() << ": "
+                << ec.message() << "\n";
+  }
+}
+
 /// The command line's words, as CLI11 fills them.
 struct Words {
   CLI::App* run_cmd = nullptr;
   CLI::App* plot_cmd = nullptr;
+  CLI::App* ccx_cmd = nullptr;
+  std::string ccx_job;
   CLI::Option *out_opt = nullptr, *threads_opt = nullptr, *from_opt = nullptr;
   std::string case_path, out_dir;
   bool quiet = false;
@@ -149,6 +172,10 @@ void define_commands(CLI::App& app, Words& w) {
   auto* check_cmd =
       app.add_subcommand("check", "read and validate a case and its mesh, solve nothing");
   check_cmd->add_option("case", w.case_path, "case file (YAML)")->required();
+  w.ccx_cmd = app.add_subcommand(
+      "ccx", "run JOB.inp as ccx would be called on it: JOB.dat and JOB.frd beside it");
+  w.ccx_cmd->add_option("-i", w.ccx_job, "the job: its deck is JOB.inp")->required();
+  w.ccx_cmd->add_flag("--quiet", w.quiet, "no progress lines on the terminal");
   w.plot_cmd = app.add_subcommand(
       "plot", "curves of a run's history.csv as DIR/plot.png and DIR/plot.svg (matplotlib)");
   w.plot_cmd->add_option("dir", w.plot_dir, "a run's output directory (holds history.csv)")
@@ -202,6 +229,7 @@ int main(int argc, char** argv) {
     std::cerr << "error: '-o': expected an output directory, found an empty path\n";
     return 1;
   }
+  if (w.ccx_cmd->parsed()) w.case_path = ccx_deck(w.ccx_job);
   cli::RunRequest request{w.case_path, w.out_dir, w.quiet, "", "", w.restart, std::nullopt};
   // Before any OpenMP region.
   if (!set_threads(w.threads_opt->count() > 0, w.threads, request.threads_warning)) return 1;
@@ -213,7 +241,9 @@ int main(int argc, char** argv) {
   if (par::launched_by_mpirun()) par::start(&argc, &argv);
   int status = 0;
   try {
-    status = w.run_cmd->parsed() ? cli::run(request) : check(w.case_path);
+    status = w.run_cmd->parsed() || w.ccx_cmd->parsed() ? cli::run(request) : check(w.case_path);
+    if (w.ccx_cmd->parsed() && (status == 0 || status == 2) && par::root())
+      copy_ccx_files(w.case_path);
   } catch (const InputError& e) {
     // Errors of the analysis reach every rank alike (its decisions are collective).
     if (par::root()) std::cerr << "error: " << e.what() << "\n";

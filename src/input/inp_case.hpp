@@ -7,6 +7,7 @@
 // line (docs/ccx-decks.md).
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesh/mesh.hpp"
@@ -23,5 +24,8 @@ struct DeckRead {
 /// Reads the whole deck. Throws InputError naming the file and line (a list of every keyword
 /// hencky cannot honour). With `text`: the deck's own text (not its *INCLUDEs).
 DeckRead read_deck(const std::filesystem::path& file, std::string* text = nullptr);
+
+/// read_deck on a deck's text, as if read from `file` (for the fuzz target, fuzz/fuzz_inp.cpp).
+DeckRead parse_deck(std::string_view text, const std::filesystem::path& file);
 
 }  // namespace hencky

@@ -12,16 +12,11 @@ namespace hencky::inp {
 
 namespace {
 
-/// The output requests: accepted, their values written as the run's usual outputs.
-bool is_output_request(const std::string& name) {
-  return name == "NODE PRINT" || name == "EL PRINT" || name == "NODE FILE" || name == "EL FILE" ||
-         name == "NODE OUTPUT" || name == "ELEMENT OUTPUT" || name == "OUTPUT" ||
-         name == "CONTACT PRINT" || name == "CONTACT FILE" || name == "SECTION PRINT";
-}
-
 /// The keywords the rest of the deck's meaning does not depend on.
 bool is_harmless(const std::string& name) {
-  return name == "PREPRINT" || name == "RESTART" || name == "NODE RESPONSE" || name == "MONITOR";
+  return name == "PREPRINT" || name == "RESTART" || name == "NODE RESPONSE" || name == "MONITOR" ||
+         name == "OUTPUT" || name == "CONTACT PRINT" || name == "CONTACT FILE" ||
+         name == "SECTION PRINT" || name == "CONTACT OUTPUT";
 }
 
 }  // namespace
@@ -79,7 +74,9 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
   if (n == "CLOAD") return cload(r, k, at, first, end);
   if (n == "DLOAD") return dload(r, k, at, first, end);
   if (n == "TEMPERATURE") return temperature(r, k, at, first, end);
-  if (is_output_request(n)) return output_request(r, k, at, first, end);
+  if (n == "NODE PRINT" || n == "EL PRINT" || n == "NODE FILE" || n == "EL FILE" ||
+      n == "NODE OUTPUT" || n == "ELEMENT OUTPUT")
+    return output_request(r, k, at, first, end);
   if (is_harmless(n)) return note(r, at, "*" + n + " has no meaning for hencky: left out");
   if (n == "HEAT TRANSFER" || n == "FILM" || n == "RADIATE" || n == "DFLUX" || n == "CFLUX" ||
       n == "COUPLED TEMPERATURE-DISPLACEMENT" || n == "UNCOUPLED TEMPERATURE-DISPLACEMENT")
@@ -396,12 +393,12 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
       if (!s.given) s.set = false;
     }
   for (int l = first; l < end; ++l) {
-    const auto f = r.data(l);
-    if (f.size() < 2)
+    const auto f = r.data_in_place(l);
+    if (f.size() < 2 || f[0].empty() || f[1].empty())
       throw r.fail(l, "a *BOUNDARY line is 'node or NSET, first dof[, last dof[, value]]'");
     const long d1 = r.label(f[1], l, "degree of freedom");
-    const long d2 = f.size() > 2 ? r.label(f[2], l, "degree of freedom") : d1;
-    const double value = f.size() > 3 ? r.real(f[3], l, "displacement") : 0.0;
+    const long d2 = f.size() > 2 && !f[2].empty() ? r.label(f[2], l, "degree of freedom") : d1;
+    const double value = f.size() > 3 && !f[3].empty() ? r.real(f[3], l, "displacement") : 0.0;
     if (d2 < d1)
       throw r.fail(l, fmt::format("the last degree of freedom {} is below the first {}", d2, d1));
     if (d1 > 3 || d2 > 3) {
@@ -422,11 +419,7 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
 void DeckCase::cload(InpReader& r, const Keyword& k, int at, int first, int end) {
   bool op_new = false;
   const int amp = condition_options(r, k, at, op_new, {});
-  if (op_new)
-    for (auto& [key, c] : cload_) {
-      Course::InStep& s = in_step(c);
-      if (!s.given) s = {true, false, 0.0, -1, at};  // removed: ramped down to zero
-    }
+  if (op_new) remove_unnamed(cload_, at);
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
     if (f.size() < 3) throw r.fail(l, "a *CLOAD line is 'node or NSET, dof, value'");
@@ -449,11 +442,7 @@ void DeckCase::cload(InpReader& r, const Keyword& k, int at, int first, int end)
 void DeckCase::dload(InpReader& r, const Keyword& k, int at, int first, int end) {
   bool op_new = false;
   const int amp = condition_options(r, k, at, op_new, {});
-  if (op_new)
-    for (auto& [key, c] : pressure_) {
-      Course::InStep& s = in_step(c);
-      if (!s.given) s = {true, false, 0.0, -1, at};
-    }
+  if (op_new) remove_unnamed(pressure_, at);
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
     if (f.size() < 3)
@@ -479,7 +468,13 @@ void DeckCase::dload(InpReader& r, const Keyword& k, int at, int first, int end)
     int side = 0;
     if (type.size() == 2 && type[0] == 'P' && type[1] >= '1' && type[1] <= '6')
       side = type[1] - '0';
-    else if (type != "P") {
+    else if (type == "P" && InpReader::is_label(f[0])) {
+      refuse(r, l,
+             "*DLOAD P on element " + std::string(f[0]) +
+                 ": a pressure without its face is a shell's, and hencky's elements are solids "
+                 "(name the face, P1 .. P6, or a *SURFACE)");
+      continue;
+    } else if (type != "P") {
       refuse(r, l, "*DLOAD of type " + type + ": hencky reads P, P1 .. P6 and GRAV");
       continue;
     }
@@ -506,15 +501,6 @@ void DeckCase::temperature(InpReader& r, const Keyword& k, int at, int first, in
     const double T = r.real(f[1], l, "temperature");
     for (long n : r.node_targets(f[0], l)) in_step(temperature_[n]) = {true, true, T, -1, l};
   }
-}
-
-void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first, int end) {
-  (void)first;
-  (void)end;
-  note(r, at,
-       "*" + k.name +
-           ": its values are in the run's usual outputs (results.pvd, history.csv, "
-           "summary.json); hencky does not write CalculiX's .dat and .frd files yet");
 }
 
 }  // namespace hencky::inp

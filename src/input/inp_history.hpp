@@ -83,6 +83,15 @@ class DeckCase final : public History {
   /// The course of a condition, with a slot for the current step.
   Course::InStep& in_step(std::map<NodeDof, Course>& courses, const NodeDof& key);
   Course::InStep& in_step(Course& c);
+  /// OP=NEW of a load keyword at line `at`: the loads of that kind the step has not named yet
+  /// are removed, ramped down to zero over the step.
+  template <class Courses>
+  void remove_unnamed(Courses& courses, int at) {
+    for (auto& [key, c] : courses) {
+      Course::InStep& s = in_step(c);
+      if (!s.given) s = {true, false, 0.0, -1, at};
+    }
+  }
   int step_index() const { return static_cast<int>(steps_.size()) - 1; }
 
   // The Case (inp_history_case.cpp).
@@ -120,6 +129,9 @@ class DeckCase final : public History {
   };
   std::vector<Gravity> gravity_;
   std::map<std::string, int> notes_;  ///< output requests and the like: warned once each
+  /// The output requests of each step (inp_history_output.cpp).
+  std::vector<std::vector<DeckRequest>> requests_;
+  void build_requests();
 };
 
 }  // namespace hencky::inp

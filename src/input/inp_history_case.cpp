@@ -15,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "input/inp_case.hpp"
 #include "input/inp_history.hpp"
@@ -103,9 +104,17 @@ std::string DeckCase::expression(const Course& c) const {
 void DeckCase::build_steps() {
   std::vector<double> times;
   bool nlgeom = false;
+  // A linear model (elastic, small strain) is solved once at the end of each step, as ccx solves
+  // it (DIRECT or not); otherwise in increments of the step's first one (DIRECT: all of them;
+  // ccx's automatic increments are hencky's own cut-back).
+  const bool linear =
+      std::none_of(materials_.begin(), materials_.end(),
+                   [](const Material& m) { return m.used && m.spec.plasticity; }) &&
+      std::none_of(steps_.begin(), steps_.end(), [](const DeckStep& s) { return s.nlgeom; });
   for (const DeckStep& s : steps_) {
     const double period = s.end - s.start;
-    const long n = std::max(1L, static_cast<long>(std::ceil(period / s.increment - 1e-9)));
+    const long n =
+        linear ? 1L : std::max(1L, static_cast<long>(std::ceil(period / s.increment - 1e-9)));
     if (static_cast<long>(times.size()) + n > max_steps)
       throw InputError(spec_.mesh.where,
                        fmt::format("the steps' increments make more than {} steps", max_steps));
@@ -121,15 +130,17 @@ void DeckCase::build_steps() {
 void DeckCase::build_materials(InpReader& r) {
   for (Material& m : materials_) {
     if (!m.used) continue;
-    if (m.spec.E.value.empty())
-      throw r.fail(m.line, fmt::format("material '{}' has no *ELASTIC", m.spec.name));
+    if (m.spec.E.value.empty()) {  // a material hencky lacks (refused where it is given)
+      refuse(r, m.line, fmt::format("material '{}' has no *ELASTIC", m.spec.name));
+      continue;
+    }
     if (m.spec.alpha.value.empty()) {  // no *EXPANSION: none
       m.spec.alpha.value = {0.0};
       m.spec.alpha.where = m.spec.where;
     }
     spec_.materials.push_back(m.spec);
   }
-  if (spec_.materials.empty())
+  if (spec_.materials.empty() && refusals_.empty())
     throw InputError(SourceLocation{spec_.file.string(), 0, 0, ""},
                      "the deck has no *SOLID SECTION: no element has a material");
 }
@@ -137,24 +148,36 @@ void DeckCase::build_materials(InpReader& r) {
 void DeckCase::build_boundary(InpReader& r) {
   // Per node, the courses of its three directions; the nodes of one course form a region.
   std::map<long, std::array<const Course*, 3>> by_node;
+  // The nodes a *BOUNDARY line holds from a later step on, or that a step releases: one refusal
+  // per line and step, naming the first nodes.
+  std::map<std::tuple<int, std::size_t, bool>, std::vector<long>> late, released;
   for (auto& [key, c] : displacement_) {
     in_step(c);
     for (std::size_t s = 0; s < c.step.size(); ++s) {
       const bool before = s == 0 || c.step[s - 1].set;
-      if (c.step[s].set && !before)
-        refuse(r, c.step[s].line,
-               fmt::format("*BOUNDARY: node {} direction {} is held from step {} on; hencky holds "
-                           "a prescribed displacement from the start of the run (give it in "
-                           "the first step)",
-                           key.first, key.second + 1, s + 1));
+      if (c.step[s].set && !before) late[{c.step[s].line, s, true}].push_back(key.first);
       if (!c.step[s].set && s > 0 && c.step[s - 1].set)
-        refuse(r, c.step[s - 1].line,
-               fmt::format("*BOUNDARY: node {} direction {} is released in step {} (OP=NEW); "
-                           "hencky holds a prescribed displacement to the end of the run",
-                           key.first, key.second + 1, s + 1));
+        released[{c.step[s - 1].line, s, false}].push_back(key.first);
     }
     if (c.step.front().set) by_node[key.first][static_cast<std::size_t>(key.second)] = &c;
   }
+  auto some = [](std::vector<long> nodes) {
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    const std::size_t n = nodes.size();
+    if (n > 3) nodes.resize(3);
+    return fmt::format("{} node{} ({}{})", n, n > 1 ? "s" : "", fmt::join(nodes, ", "),
+                       n > 3 ? ", ..." : "");
+  };
+  for (const auto& [at, nodes] : late)
+    refuse(r, std::get<0>(at),
+           fmt::format("*BOUNDARY: {} held from step {} on; hencky holds a prescribed "
+                       "displacement from the start of the run (give it in the first step)",
+                       some(nodes), std::get<1>(at) + 1));
+  for (const auto& [at, nodes] : released)
+    refuse(r, std::get<0>(at),
+           fmt::format("*BOUNDARY: {} released in step {} (OP=NEW); hencky holds a prescribed "
+                       "displacement to the end of the run",
+                       some(nodes), std::get<1>(at) + 1));
   std::map<std::array<std::string, 3>, std::pair<std::vector<long>, int>> groups;
   for (const auto& [node, dirs] : by_node) {
     std::array<std::string, 3> e;
@@ -226,7 +249,7 @@ void DeckCase::build_loads(InpReader& r) {
     r.add_face_surface(b.region, g.first, g.second);
     spec_.boundary.push_back(std::move(b));
   }
-  if (gravity_.empty()) return;
+  if (gravity_.empty() || spec_.materials.empty()) return;
   const Gravity& g = gravity_.front();
   if (gravity_.size() > 1)
     return refuse(r, gravity_[1].line, "a second GRAV load: hencky reads one");
@@ -324,6 +347,7 @@ void DeckCase::finish(InpReader& r) {
   build_boundary(r);
   build_loads(r);
   build_temperature(r);
+  build_requests();
   for (std::size_t s = 0; s < steps_.size(); ++s)
     if (steps_[s].nlgeom && !steps_.front().nlgeom)
       refuse(r, steps_[s].line,
@@ -342,13 +366,8 @@ void DeckCase::finish(InpReader& r) {
 
 }  // namespace inp
 
-DeckRead read_deck(const fs::path& file, std::string* text) {
+DeckRead parse_deck(std::string_view text, const fs::path& file) {
   const fs::path path = fs::absolute(file).lexically_normal();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot open the deck");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  std::string own = ss.str();
   DeckRead d;
   d.spec.file = path;
   d.spec.mesh.file = path;
@@ -357,7 +376,7 @@ DeckRead read_deck(const fs::path& file, std::string* text) {
   d.spec.output.dir_where = d.spec.mesh.where;
   inp::Deck deck;
   deck.names.push_back(file.string());
-  deck.add(own, 0, 0);
+  deck.add(text, 0, 0);
   const MeshReadOptions options;
   std::vector<std::string> mesh_warnings;
   inp::InpReader reader(deck, options, &mesh_warnings);
@@ -366,6 +385,16 @@ DeckRead read_deck(const fs::path& file, std::string* text) {
   d.mesh = reader.read();
   d.warnings = history.warnings();
   d.warnings.insert(d.warnings.end(), mesh_warnings.begin(), mesh_warnings.end());
+  return d;
+}
+
+DeckRead read_deck(const fs::path& file, std::string* text) {
+  std::ifstream in(fs::absolute(file).lexically_normal(), std::ios::binary);
+  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot open the deck");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  std::string own = ss.str();
+  DeckRead d = parse_deck(own, file);
   if (text) *text = std::move(own);
   return d;
 }

@@ -132,6 +132,13 @@ class InpReader {
             f.end());
     return f;
   }
+  /// The fields of data line `line` with the empty ones inside kept (`node, 1, , value`: the
+  /// last degree of freedom not given), the trailing ones dropped.
+  std::vector<std::string_view> data_in_place(int line) const {
+    auto f = fields(text(line));
+    while (!f.empty() && f.back().empty()) f.pop_back();
+    return f;
+  }
   static bool is_label(std::string_view s) {
     return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || s[0] == '+');
   }

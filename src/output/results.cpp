@@ -160,6 +160,8 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   history_.open(work_dir_ / "history.csv");
   if (!history_) cannot_write(final_dir_, work_dir_ / "history.csv", where);
   log_.attach_file((work_dir_ / "hencky.log").string());
+  if (!model_.spec().output.deck_requests.empty())
+    deck_files_ = std::make_unique<DeckFiles>(model_, work_dir_);
   std::ostringstream h;
   h << "step,time,iterations,residual";
   for (const auto& p : model_.probes()) {
@@ -216,6 +218,7 @@ ResultWriter::~ResultWriter() {
 }
 
 void ResultWriter::abandon() {
+  deck_files_.reset();
   std::error_code ec;
   fs::remove_all(work_dir_, ec);
   finished_ = true;
@@ -439,8 +442,7 @@ void ResultWriter::iterate_done(const IterateReport& r, const State& trial) {
     iterations_ << '\n';
   }
   iterations_ << fmt::format("{},{:.17g},{},{:.17g},{:.17g},{:.17g},{}", r.attempt, r.time,
-                             r.iteration, r.residual, r.delta_sigma, r.delta_eps,
-                             r.plastic_points);
+                             r.iteration, r.residual, r.delta_sigma, r.delta_eps, r.plastic_points);
   for (const ProbeValues& v : values.probes) {
     for (int c = 0; c < 6; ++c) iterations_ << fmt::format(",{:.17g}", v.stress[paraview_order[c]]);
     iterations_ << fmt::format(",{:.17g}", v.eps_ep);
@@ -458,6 +460,7 @@ void ResultWriter::step_done(const StepReport& report, const State& state,
   std::exception_ptr history_failure;
   try {
     write_history(report, state, values);
+    if (deck_files_) deck_files_->step_done(report, state, fields);
   } catch (const OutputError&) {
     history_failure = std::current_exception();
   }
@@ -550,6 +553,7 @@ std::vector<CheckpointEntry> ResultWriter::continue_from(
 
 void ResultWriter::finish(nlohmann::json summary) {
   history_.close();
+  deck_files_.reset();  // MODEL.frd's closing line
   {
     std::ofstream out(work_dir_ / "summary.json");
     out << summary.dump(2) << '\n';

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "output/checkpoint.hpp"
+#include "output/deck_files.hpp"
 #include "output/fields_writer.hpp"
 #include "output/step_values.hpp"
 #include "output/vtu_writer.hpp"
@@ -93,6 +94,7 @@ class ResultWriter final : public StepObserver {
   std::ofstream iterations_;  ///< iterations.csv (output.iterations)
   std::unique_ptr<PvdWriter> pvd_;
   std::unique_ptr<FieldsWriter> fields_;
+  std::unique_ptr<DeckFiles> deck_files_;  ///< a deck's MODEL.dat and MODEL.frd
   nlohmann::json final_values_;
   std::string header_;  ///< history.csv's first line
   bool finished_ = false;

@@ -365,6 +365,21 @@ struct SolverSpec {
   std::string petsc_options;
 };
 
+/// An output request of a CalculiX deck run as the case (docs/ccx-decks.md): what MODEL.dat
+/// (*NODE PRINT, *EL PRINT) and MODEL.frd (*NODE FILE, *EL FILE) hold over one of the deck's
+/// steps.
+struct DeckRequest {
+  enum class Kind { node_print, el_print, node_file, el_file };
+  Kind kind = Kind::node_print;
+  std::string set;  ///< the NSET (ELSET) named; empty: every node (element)
+  std::vector<std::string> variables;  ///< upper case, those hencky writes: U, RF, NT, S, PEEQ
+  /// Every `frequency`-th increment of the step and its last one; 0: none.
+  int frequency = 1;
+  enum class Totals { no, yes, only } totals = Totals::no;  ///< RF's sum over the set
+  double start = 0, end = 0;  ///< the deck step it belongs to, in the deck's total time
+  SourceLocation where;
+};
+
 struct OutputSpec {
   std::filesystem::path dir;  ///< absolute; default <case dir>/<case stem>.out
   SourceLocation dir_where;   ///< key output.dir; the case file alone when it is the default
@@ -385,6 +400,10 @@ struct OutputSpec {
   std::vector<SourceLocation> reaction_where;
   std::vector<std::string> heat_flows;  ///< regions whose heat flow is written (heat_flows)
   std::vector<SourceLocation> heat_flow_where;
+  /// A deck run as the case: its output requests, and the names of the files they go to in the
+  /// output directory (MODEL.dat, MODEL.frd); empty for a case file.
+  std::vector<DeckRequest> deck_requests;
+  std::string deck_dat, deck_frd;
 };
 
 struct MeshSpec {

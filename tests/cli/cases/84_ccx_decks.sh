@@ -30,25 +30,41 @@ for case in "beam10p 2e-7" "beam20t 1e-6" "beamd 5e-3" "beam8p 4e-2" "beampiso 4
     ok "ccx decks: $1's displacements are its .dat.ref's to $2 ($out)" ||
     bad "ccx decks: $1's displacements are not its .dat.ref's to $2" "$out"
 done
+# MODEL.dat (item 3): the *NODE PRINT and *EL PRINT blocks in ccx's layout, compared block by
+# block with the .dat.ref (tests/tools/dat_compare.py reads both alike): beam10p's every line,
+# its stresses at the 4 points of each C3D10 in ccx's order; beam20t's stresses at the 27
+# points of each C3D20 (its ENER block is not written).
+datcmp() {  # datcmp WHAT A.dat B.dat BOUND [--blocks N]
+  local out
+  out="$("$ex_py" "$src/tests/tools/dat_compare.py" "$2" "$3" "$4" "${@:5}" 2>&1)" &&
+    ok "ccx decks: $1 ($(tr '\n' ';' <<<"$out"))" || bad "ccx decks: $1" "$out"
+}
+datcmp "beam10p.dat: U, RF and S at the points are the .dat.ref's to 1e-6" \
+  "$cd_/beam10p.out/beam10p.dat" "$suite/beam10p.dat.ref.gz" 1e-6
+datcmp "beam20t.dat: U, and S at the 27 points in ccx's order, are the .dat.ref's to 1e-6" \
+  "$cd_/beam20t.out/beam20t.dat" "$suite/beam20t.dat.ref.gz" 1e-6 --blocks 2
 # The variants, run through ccx as well: the same element in both codes.
-peer() {  # peer NAME BOUND WHAT: NAME.inp through ccx and hencky, displacements compared
+peer() {  # peer NAME BOUND WHAT [dat]: NAME.inp through ccx and hencky, displacements compared
   (cd "$cd_" && ccx -i "$1" >"$1.ccx.log" 2>&1) || { bad "ccx decks: ccx failed on $1" "$(tail -5 "$cd_/$1.ccx.log")"; return; }
   expect "ccx decks: $1.inp runs" 0 "" -- run "$cd_/$1.inp" --quiet
   local out
   out="$("$ex_py" "$src/tests/tools/ccx_dat.py" "$cd_/$1.out" "$cd_/$1.dat" "$cd_/$1.inp" "$2" 2>&1)" &&
     ok "ccx decks: $3 as ccx's to $2 ($out)" || bad "ccx decks: $3 not as ccx's to $2" "$out"
+  [ "${4:-}" = dat ] && datcmp "... $1.dat: every block and increment as ccx's .dat" \
+    "$cd_/$1.out/$1.dat" "$cd_/$1.dat" "$2"
 }
 sed -e 's/C3D20R/C3D20 /' "$cd_/beamd.inp" >"$cd_/beamd20.inp"
-peer beamd20 1e-6 "beamd as C3D20: the face pressure P2"
+peer beamd20 1e-6 "beamd as C3D20: the face pressure P2" dat
 # beampiso without NLGEOM: isotropic hardening, the load reversed in the second step (OP=MOD
 # replaces each node's value; the second step ramps from the first one's end).
 sed -e 's/^\*STEP,NLGEOM/*STEP/' "$cd_/beampiso.inp" >"$cd_/beampiso-small.inp"
 peer beampiso-small 1e-6 "beampiso without NLGEOM: plastic, loaded and reversed over two steps"
 # An amplitude, a second step with OP=NEW and a *BOUNDARY with a value: beam10p's load follows
-# the amplitude to half its value in step 1 (of time 2), with its tip node 12 held along z;
+# the amplitude to half its value in step 1 (of time 2: an elastic step is solved once at its
+# end, as ccx solves a linear one, DIRECT or not), with its tip node 12 held along z;
 # step 2 removes the load and pulls node 12 by 0.01 along z instead.
 awk '/^\*STEP/ && !done {print "*BOUNDARY\n12,3,3\n*AMPLITUDE,NAME=HALF\n0.,0.,2.,0.5"; done=1} {print}' "$cd_/beam10p.inp" |
-  sed -e 's/^\*STATIC$/*STATIC\n1.,2./' -e 's/^\*CLOAD$/*CLOAD,AMPLITUDE=HALF/' >"$cd_/beam10p-history.inp"
+  sed -e 's/^\*STATIC$/*STATIC,DIRECT\n1.,2./' -e 's/^\*CLOAD$/*CLOAD,AMPLITUDE=HALF/' >"$cd_/beam10p-history.inp"
 cat >>"$cd_/beam10p-history.inp" <<'DECK'
 *STEP
 *STATIC
@@ -60,10 +76,10 @@ U
 *END STEP
 DECK
 awk '{print} /^\*END STEP/{exit}' "$cd_/beam10p-history.inp" >"$cd_/beam10p-amplitude.inp"
-peer beam10p-amplitude 1e-6 "the first step alone: the load at half its value by the amplitude"
-peer beam10p-history 1e-6 "an amplitude, OP=NEW and a prescribed displacement over two steps"
-ex_check "ccx decks: ... 2 steps of the deck, 3 of hencky (the first one's two 1 s increments)" \
-  "$cd_/beam10p-history.out/summary.json" 's["steps"] == 3 and s["title"] == "beam10p-history"'
+peer beam10p-amplitude 1e-6 "the first step alone: the load at half its value by the amplitude" dat
+peer beam10p-history 1e-6 "an amplitude, OP=NEW and a prescribed displacement over two steps" dat
+ex_check "ccx decks: ... 2 steps of the deck, 2 of hencky (a linear step is solved once)" \
+  "$cd_/beam10p-history.out/summary.json" 's["steps"] == 2 and s["title"] == "beam10p-history"'
 # The output directory is MODEL.out beside the deck; -o moves it.
 [ -f "$cd_/beam10p.out/results.pvd" ] && ok "ccx decks: the outputs are in MODEL.out beside the deck" ||
   bad "ccx decks: no beam10p.out/results.pvd beside the deck"
@@ -83,3 +99,31 @@ rc=$?
   ok "ccx decks: a deck asking what hencky cannot do is refused (exit 1), each keyword with its line" ||
   bad "ccx decks: the refused deck's exit or message (exit $rc)" "$out"
 [ ! -e "$cd_/refused.out" ] && ok "ccx decks: ... and nothing is written" || bad "ccx decks: a refused deck wrote refused.out"
+# `hencky ccx -i JOB`, as a front end calls ccx: JOB.dat beside the deck, in the working folder.
+mkdir -p "$cd_/job" && cp "$cd_/beam10p.inp" "$cd_/job/"
+expect_cmd "ccx decks: hencky ccx -i beam10p runs in the deck's folder" 0 "" -- \
+  bash -c "cd '$cd_/job' && '$(readlink -f "$bin")' ccx -i beam10p --quiet"
+datcmp "... and writes beam10p.dat there, the .dat.ref's to 1e-6" "$cd_/job/beam10p.dat" \
+  "$suite/beam10p.dat.ref.gz" 1e-6
+# MODEL.frd: *NODE FILE U, RF and *EL FILE S on beam10p, beside ccx's own .frd of the deck: the
+# same node and element blocks (ccx's node order in each element), the same displacements and
+# forces, and nodal stresses (the points' values extrapolated to the nodes and averaged) within
+# 1e-5, the resolution of the format's 12.5E fields (measured 2026-11-28: 0, 5e-13 and 4.9e-6).
+sed -e 's/^\*END STEP/*NODE FILE\nU,RF\n*EL FILE\nS\n*END STEP/' "$cd_/beam10p.inp" >"$cd_/beam10p-frd.inp"
+(cd "$cd_" && ccx -i beam10p-frd >beam10p-frd.ccx.log 2>&1) || bad "ccx decks: ccx failed on beam10p-frd"
+mkdir -p "$cd_/frd" && cp "$cd_/beam10p-frd.inp" "$cd_/frd/"
+expect_cmd "ccx decks: hencky ccx -i beam10p-frd writes beam10p-frd.frd" 0 "" -- \
+  bash -c "cd '$cd_/frd' && '$(readlink -f "$bin")' ccx -i beam10p-frd --quiet && test -s beam10p-frd.frd"
+out="$("$ex_py" "$src/tests/tools/frd_compare.py" "$cd_/frd/beam10p-frd.frd" "$cd_/beam10p-frd.frd" 1e-5 DISP FORC STRESS 2>&1)" &&
+  ok "ccx decks: ... its mesh, DISP, FORC and STRESS are ccx's .frd's ($(tr '\n' ';' <<<"$out"))" ||
+  bad "ccx decks: ... its .frd is not ccx's" "$out"
+# CalculiX GraphiX reads it (batch mode, no display): three datasets, the beam's volume 1 x 1 x 8.
+if command -v cgx >/dev/null; then
+  printf 'read beam10p-frd.frd\nds 1 e 1\nvolu all\nquit\n' >"$cd_/frd/read.fbd"
+  out="$(cd "$cd_/frd" && timeout 60 cgx -bg read.fbd 2>&1)"
+  grep -q "reading Dataset No:3" <<<"$out" && grep -q "VOLUME:8.000000e+00" <<<"$out" &&
+    ! grep -qi "error" <<<"$out" && ok "ccx decks: ... cgx -bg reads it: 3 datasets, volume 8" ||
+    bad "ccx decks: cgx did not read beam10p-frd.frd" "$(tail -20 <<<"$out")"
+else
+  bad "ccx decks: cgx is missing (scripts/setup.sh installs calculix-cgx)"
+fi

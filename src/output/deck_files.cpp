@@ -1,0 +1,277 @@
+#include "output/deck_files.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "fem/reference_element.hpp"
+#include "output/frd_writer.hpp"
+#include "parallel/mpi.hpp"
+#include "solve/recovery.hpp"
+
+namespace hencky {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Fortran's 1p e13.6 (ccx's value fields): d.ddddddE+ee, right-aligned in 13.
+std::string e13(double v) {
+  return fmt::format("{:13.6E}", v == 0 ? 0.0 : v);  // no "-0.000000E+00"
+}
+
+/// Fortran's e14.7 (the time of ccx's block titles): 0.dddddddE+ee, right-aligned in 14.
+std::string e14(double v) {
+  if (v == 0) return " 0.0000000E+00";
+  int e = static_cast<int>(std::floor(std::log10(std::abs(v)))) + 1;
+  double m = v / std::pow(10.0, e);
+  if (std::abs(std::round(std::abs(m) * 1e7)) >= 1e7) {  // rounds up to 1.0000000
+    m /= 10;
+    ++e;
+  }
+  return fmt::format("{:>14}", fmt::format("{}0.{:07.0f}E{}{:02d}", m < 0 ? "-" : "",
+                                           std::abs(m) * 1e7, e < 0 ? '-' : '+', std::abs(e)));
+}
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// ccx's natural coordinates of its full rule's points for a cell type (gauss.f), in its order.
+std::vector<std::array<double, 3>> ccx_points(CellType type) {
+  std::vector<std::array<double, 3>> p;
+  auto hex = [&](std::vector<double> g) {
+    for (double z : g)
+      for (double y : g)
+        for (double x : g) p.push_back({x, y, z});
+  };
+  const double a = 0.138196601125011, b = 0.585410196624968;
+  switch (type) {
+    case CellType::tet4:
+      p.push_back({0.25, 0.25, 0.25});
+      break;
+    case CellType::tet10:
+      p = {{a, a, a}, {b, a, a}, {a, b, a}, {a, a, b}};
+      break;
+    case CellType::hex8:
+      hex({-1 / std::sqrt(3.0), 1 / std::sqrt(3.0)});
+      break;
+    case CellType::hex20:
+      hex({-std::sqrt(0.6), 0.0, std::sqrt(0.6)});
+      break;
+    case CellType::wedge6:
+      p = {{1 / 3.0, 1 / 3.0, -1 / std::sqrt(3.0)}, {1 / 3.0, 1 / 3.0, 1 / std::sqrt(3.0)}};
+      break;
+    default:
+      break;
+  }
+  return p;
+}
+
+/// The nodal field `variable` of a *NODE FILE or *EL FILE request as ccx names its .frd block,
+/// added to `out` once.
+void frd_field(const std::string& variable, const State& state, const RecoveredFields& fields,
+               std::vector<FrdField>& out) {
+  const std::size_t n = state.u.size() / 3;
+  FrdField f;
+  auto take = [&](const std::vector<double>& v, std::size_t k) {
+    f.values.assign(n * k, 0.0);
+    if (v.size() == n * k) f.values = v;
+  };
+  if (variable == "U") {
+    f = {"DISP", {"D1", "D2", "D3"}, {}};
+    take(state.u, 3);
+  } else if (variable == "RF") {
+    f = {"FORC", {"F1", "F2", "F3"}, {}};
+    take(state.f_int, 3);
+  } else if (variable == "NT") {
+    f = {"NDTEMP", {"T"}, {}};
+    take(state.nodal_temperature, 1);
+  } else if (variable == "PEEQ") {
+    f = {"PE", {"PE"}, {}};
+    take(fields.nodal_eps_p_eq, 1);
+  } else if (variable == "S") {
+    f = {"STRESS", {"SXX", "SYY", "SZZ", "SXY", "SYZ", "SZX"}, {}};
+    f.values.assign(n * 6, 0.0);
+    if (fields.nodal_stress.size() == n)
+      for (std::size_t a = 0; a < n; ++a) {
+        const Voigt& s = fields.nodal_stress[a];  // hencky's 11 22 33 23 31 12
+        const double ccx[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};
+        std::copy(ccx, ccx + 6, f.values.begin() + static_cast<std::ptrdiff_t>(6 * a));
+      }
+  } else {
+    return;
+  }
+  for (const FrdField& g : out)
+    if (g.name == f.name) return;
+  out.push_back(std::move(f));
+}
+
+}  // namespace
+
+std::vector<int> ccx_point_order(CellType type) {
+  const ReferenceTable& tab = reference_table(type);
+  const auto ccx = ccx_points(type);
+  if (ccx.size() != static_cast<std::size_t>(tab.n_points)) return {};
+  std::vector<int> order;
+  for (const auto& c : ccx) {
+    int found = -1;
+    for (int q = 0; q < tab.n_points; ++q)
+      if (std::abs(tab.points[q][0] - c[0]) + std::abs(tab.points[q][1] - c[1]) +
+              std::abs(tab.points[q][2] - c[2]) <
+          1e-9)
+        found = q;
+    if (found < 0) return {};
+    order.push_back(found);
+  }
+  return order;
+}
+
+DeckFiles::DeckFiles(const Model& model, const fs::path& dir) : model_(model) {
+  const OutputSpec& out = model.spec().output;
+  if (!out.deck_dat.empty()) {
+    dat_.open(dir / out.deck_dat);
+    if (!dat_) throw OutputError("cannot write " + (dir / out.deck_dat).string());
+  }
+  if (!out.deck_frd.empty()) frd_ = std::make_unique<FrdWriter>(dir / out.deck_frd, model.mesh());
+}
+
+DeckFiles::~DeckFiles() = default;
+
+bool DeckFiles::due(const DeckRequest& q, double t, int increment) const {
+  const double slack = 1e-9 * std::max(1.0, std::abs(q.end));
+  if (!(t > q.start + slack && t <= q.end + slack) || q.frequency <= 0) return false;
+  return increment % q.frequency == 0 || std::abs(t - q.end) <= slack;
+}
+
+std::vector<int> DeckFiles::nodes_of(const DeckRequest& q) const {
+  const Mesh& mesh = model_.mesh();
+  std::vector<int> nodes;
+  if (q.set.empty()) {
+    nodes.resize(static_cast<std::size_t>(mesh.n_nodes()));
+    for (int n = 0; n < mesh.n_nodes(); ++n) nodes[static_cast<std::size_t>(n)] = n;
+  } else if (const Region* r = mesh.find_region(q.set, 0, 0, true)) {
+    nodes = r->nodes;
+  } else if (const Region* any = mesh.find_region(q.set, 0, 3, true)) {
+    nodes = any->nodes;
+  }
+  std::sort(nodes.begin(), nodes.end(),
+            [&](int a, int b) { return mesh.node_tag[a] < mesh.node_tag[b]; });
+  return nodes;
+}
+
+std::vector<int> DeckFiles::cells_of(const DeckRequest& q) const {
+  const Mesh& mesh = model_.mesh();
+  std::vector<int> cells;
+  if (q.set.empty()) {
+    for (int c = 0; c < mesh.cells.size(); ++c) cells.push_back(c);
+  } else if (const Region* r = mesh.find_region(q.set, 3, 3, true)) {
+    cells = r->cells;
+  }
+  std::sort(cells.begin(), cells.end(),
+            [&](int a, int b) { return mesh.cells.tag[a] < mesh.cells.tag[b]; });
+  return cells;
+}
+
+void DeckFiles::node_block(const DeckRequest& q, const std::string& variable, const State& state,
+                           double t) {
+  const Mesh& mesh = model_.mesh();
+  const std::string set = q.set.empty() ? std::string("NALL") : upper(q.set);
+  const auto nodes = nodes_of(q);
+  if (variable == "NT") {
+    dat_ << fmt::format("\n temperatures for set {} and time {}\n\n", set, e14(t));
+    for (int n : nodes)
+      dat_ << fmt::format("{:10d} {}\n", mesh.node_tag[n],
+                          e13(state.nodal_temperature.empty() ? 0.0 : state.nodal_temperature[n]));
+    return;
+  }
+  const bool rf = variable == "RF";
+  const std::vector<double>& v = rf ? state.f_int : state.u;
+  if (!rf || q.totals != DeckRequest::Totals::only) {
+    dat_ << fmt::format("\n {} for set {} and time {}\n\n",
+                        rf ? "forces (fx,fy,fz)" : "displacements (vx,vy,vz)", set, e14(t));
+    for (int n : nodes)
+      dat_ << fmt::format("{:10d} {} {} {}\n", mesh.node_tag[n], e13(v[3 * n]), e13(v[3 * n + 1]),
+                          e13(v[3 * n + 2]));
+  }
+  if (rf && q.totals != DeckRequest::Totals::no) {
+    double sum[3] = {0, 0, 0};
+    for (int n : nodes)
+      for (int d = 0; d < 3; ++d) sum[d] += v[3 * n + d];
+    dat_ << fmt::format("\n total force (fx,fy,fz) for set {} and time {}\n\n", set, e14(t));
+    dat_ << fmt::format("       {} {} {}\n", e13(sum[0]), e13(sum[1]), e13(sum[2]));
+  }
+}
+
+void DeckFiles::element_block(const DeckRequest& q, const std::string& variable, const State& state,
+                              double t) {
+  const Mesh& mesh = model_.mesh();
+  const std::string set = q.set.empty() ? std::string("EALL") : upper(q.set);
+  const bool stress = variable == "S";
+  dat_ << (stress ? fmt::format("\n stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set "
+                                "{} and time {}\n\n",
+                                set, e14(t))
+                  : fmt::format("\n equivalent plastic strain (elem, integ.pnt.,pe)for set {} "
+                                "and time {}\n\n",
+                                set, e14(t)));
+  for (int c : cells_of(q)) {
+    if (!model_.holds_points(c)) continue;
+    const auto order = ccx_point_order(mesh.cells.type[c]);
+    const int n = model_.point_offset(c + 1) - model_.point_offset(c);
+    for (int j = 0; j < n; ++j) {
+      const int p =
+          model_.point_offset(c) + (order.empty() ? j : order[static_cast<std::size_t>(j)]);
+      if (stress) {
+        const Voigt& s = state.stress[p];  // hencky's 11 22 33 23 31 12, ccx's xx yy zz xy xz yz
+        dat_ << fmt::format("{:10d}{:4d} {} {} {} {} {} {}\n", mesh.cells.tag[c], j + 1, e13(s[0]),
+                            e13(s[1]), e13(s[2]), e13(s[5]), e13(s[4]), e13(s[3]));
+      } else {
+        dat_ << fmt::format("{:10d}{:4d} {}\n", mesh.cells.tag[c], j + 1,
+                            e13(state.eps_p_eq.empty() ? 0.0 : state.eps_p_eq[p]));
+      }
+    }
+  }
+}
+
+void DeckFiles::step_done(const StepReport& report, const State& state,
+                          const RecoveredFields& fields) {
+  const double t = report.time;
+  const auto& requests = model_.spec().output.deck_requests;
+  // The increment's count in its deck step (the requests of one deck step share its span).
+  for (const DeckRequest& q : requests)
+    if (t > q.start && t <= q.end + 1e-9 * std::max(1.0, std::abs(q.end))) {
+      if (q.start != step_start_) {
+        step_start_ = q.start;
+        increment_ = 0;
+      }
+      ++increment_;
+      break;
+    }
+  std::vector<FrdField> frd;
+  for (const DeckRequest& q : requests) {
+    if (!due(q, t, increment_)) continue;
+    for (const std::string& v : q.variables) switch (q.kind) {
+        case DeckRequest::Kind::node_print:
+          node_block(q, v, state, t);
+          break;
+        case DeckRequest::Kind::el_print:
+          // On several ranks the points are spread over them: element blocks are serial only.
+          if (par::size() == 1) element_block(q, v, state, t);
+          break;
+        case DeckRequest::Kind::node_file:
+        case DeckRequest::Kind::el_file:
+          frd_field(v, state, fields, frd);
+          break;
+      }
+  }
+  if (dat_.is_open()) {
+    dat_.flush();
+    if (!dat_) throw OutputError("cannot write " + model_.spec().output.deck_dat);
+  }
+  if (frd_ && !frd.empty()) frd_->step(++frd_steps_, t, frd);
+}
+
+}  // namespace hencky
