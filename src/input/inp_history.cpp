@@ -232,16 +232,22 @@ void DeckCase::section(InpReader& r, const Keyword& k, int at, int first, int en
   if (k.has("ORIENTATION"))
     note(r, at,
          "*SOLID SECTION, ORIENTATION=: left out (the materials hencky reads are isotropic)");
-  const auto it = std::find_if(materials_.begin(), materials_.end(), [&](const Material& m) {
-    return upper(m.spec.name) == upper(unquote(*material));
-  });
-  if (it == materials_.end())
-    throw r.fail(
-        at, fmt::format("*SOLID SECTION: no *MATERIAL named '{}' before this line", *material));
   r.element_targets(*elset, at);  // it must be an ELSET
-  it->used = true;
-  it->spec.regions.push_back(unquote(*elset));
-  it->spec.region_where.push_back(r.where(at));
+  sections_.push_back({unquote(*elset), unquote(*material), at});
+}
+
+void DeckCase::bind_sections(InpReader& r) {
+  for (const Section& sec : sections_) {
+    const auto it = std::find_if(materials_.begin(), materials_.end(), [&](const Material& m) {
+      return upper(m.spec.name) == upper(sec.material);
+    });
+    if (it == materials_.end())
+      throw r.fail(sec.line, fmt::format("*SOLID SECTION: the deck has no *MATERIAL named '{}'",
+                                         sec.material));
+    it->used = true;
+    it->spec.regions.push_back(sec.elset);
+    it->spec.region_where.push_back(r.where(sec.line));
+  }
 }
 
 void DeckCase::initial_conditions(InpReader& r, const Keyword& k, int at, int first, int end) {
@@ -285,9 +291,26 @@ void DeckCase::amplitude(InpReader& r, const Keyword& k, int at, int first, int 
     }
   }
   if (a.time.empty()) throw r.fail(at, "*AMPLITUDE without a pair of time and value");
-  if (!amplitude_of_.emplace(upper(unquote(*name)), static_cast<int>(amplitudes_.size())).second)
-    throw r.fail(at, fmt::format("amplitude '{}' is defined twice", *name));
-  amplitudes_.push_back(std::move(a));
+  const auto [it, fresh] =
+      amplitude_of_.try_emplace(upper(unquote(*name)), static_cast<int>(amplitudes_.size()));
+  if (fresh) {
+    a.name = unquote(*name);
+    amplitudes_.push_back(std::move(a));
+    return;
+  }
+  Amplitude& named = amplitudes_[static_cast<std::size_t>(it->second)];
+  if (!named.time.empty()) throw r.fail(at, fmt::format("amplitude '{}' is defined twice", *name));
+  // Named by a condition before it is defined, as ccx allows; not by one of a step that has
+  // ended (its values at that step's end are already taken).
+  if (named.used_step < step_index() && named.used_step >= 0)
+    return refuse(r, at,
+                  fmt::format("*AMPLITUDE '{}' is defined after step {}, which uses it: define "
+                              "it before",
+                              *name, named.used_step + 1));
+  a.name = named.name;
+  a.used_line = named.used_line;
+  a.used_step = named.used_step;
+  named = std::move(a);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -368,10 +391,16 @@ int DeckCase::condition_options(InpReader& r, const Keyword& k, int at, bool& op
       if (op != "NEW" && op != "MOD") throw r.fail(at, "OP= is NEW or MOD, found '" + v + "'");
       op_new = op == "NEW";
     } else if (p == "AMPLITUDE") {
-      const auto it = amplitude_of_.find(upper(unquote(v)));
-      if (it == amplitude_of_.end())
-        throw r.fail(at, fmt::format("no *AMPLITUDE named '{}' before this line", v));
+      const auto [it, fresh] =
+          amplitude_of_.try_emplace(upper(unquote(v)), static_cast<int>(amplitudes_.size()));
+      if (fresh) {  // defined later in the deck (checked at its end)
+        Amplitude named;
+        named.name = unquote(v);
+        named.used_line = at;
+        amplitudes_.push_back(std::move(named));
+      }
       amp = it->second;
+      amplitudes_[static_cast<std::size_t>(amp)].used_step = step_index();
     } else if (std::find(allowed.begin(), allowed.end(), p) == allowed.end()) {
       refuse(r, at,
              fmt::format("*{}, {}{}: not read by hencky", k.name, p, v.empty() ? "" : "=" + v));

@@ -23,8 +23,11 @@ struct DeckStep {
 
 /// An *AMPLITUDE: a piecewise-linear factor over the step's time (or the total time).
 struct Amplitude {
-  std::vector<double> time, value;
+  std::vector<double> time, value;  ///< empty: named by a condition, not defined yet
   bool total_time = false;  ///< TIME=TOTAL TIME
+  std::string name;         ///< as first written
+  int used_line = -1;       ///< where a condition first named it
+  int used_step = -1;       ///< the last step whose conditions name it (-1: the model data)
   int line = 0;
 };
 
@@ -110,6 +113,14 @@ class DeckCase final : public History {
   std::vector<std::string> refusals_;  ///< "file:line: *KEYWORD: why"
   int first_refusal_ = -1;
   std::vector<Material> materials_;
+  /// The *SOLID SECTION lines (ELSET, MATERIAL), bound to the materials at the end: ccx takes a
+  /// material defined after the section that names it.
+  struct Section {
+    std::string elset, material;
+    int line = 0;
+  };
+  std::vector<Section> sections_;
+  void bind_sections(InpReader& r);
   int material_ = -1;                        ///< the *MATERIAL the property keywords belong to
   std::map<std::string, int> amplitude_of_;  ///< by upper-case name
   std::vector<Amplitude> amplitudes_;

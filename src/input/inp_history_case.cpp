@@ -50,6 +50,7 @@ double DeckCase::value_at_end(const Course& c, int s) const {
   if (!st.set) return 0;
   if (st.amplitude < 0) return st.value;
   const Amplitude& a = amplitudes_[static_cast<std::size_t>(st.amplitude)];
+  if (a.time.empty()) return st.value;  // not defined (yet): an error at the deck's end
   const DeckStep& step = steps_[static_cast<std::size_t>(s)];
   const double tau = a.total_time ? step.end : step.end - step.start;
   if (tau <= a.time.front()) return st.value * a.value.front();
@@ -279,7 +280,6 @@ void DeckCase::build_temperature(InpReader& r) {
              (m.plasticity && m.plasticity->curve.tables.size() > 1);
   if (temperature_.empty() && initial_temperature_.empty() && !tables) return;
   ts.given = true;
-  ts.linear_in_quadratic_cells = true;  // as ccx takes a quadratic element's temperatures
   ts.where = ts.field_where = ts.reference_where =
       initial_line_ >= 0 ? r.where(initial_line_) : SourceLocation{spec_.file.string(), 0, 0, ""};
   const std::vector<long>& labels = r.node_labels();
@@ -293,6 +293,23 @@ void DeckCase::build_temperature(InpReader& r) {
     hi = std::max(hi, initial(n));
   }
   ts.reference = labels.empty() ? 0.0 : lo;
+  // ccx projects the temperatures onto trilinear functions in a plain C3D20 (lintemp.f) and
+  // interpolates them with the element's own functions in C3D20R and C3D10 (e_c3d.f): the
+  // deck's quadratic cells are one or the other (a mix is refused).
+  const auto& types = r.volume_types();
+  long projected = 0, quadratic = 0;
+  for (const auto& [type, n] : types)
+    if (type == "C3D20" || type == "C3D10T")
+      projected += n;
+    else if (type.rfind("C3D20", 0) == 0 || type.rfind("C3D10", 0) == 0 ||
+             type.rfind("C3D15", 0) == 0)
+      quadratic += n;
+  ts.linear_in_quadratic_cells = projected > 0;
+  if (projected > 0 && quadratic > 0 && (!temperature_.empty() || lo != hi))
+    refuse(r, initial_line_ >= 0 ? initial_line_ : 0,
+           fmt::format("temperatures in {} C3D20 (C3D10T) and {} other quadratic elements: ccx "
+                       "interpolates them differently in the two, hencky one way in a run",
+                       projected, quadratic));
   bool expands = false;
   for (const Material& m : materials_) {
     if (!m.used) continue;
@@ -342,6 +359,10 @@ void DeckCase::finish(InpReader& r) {
                      "the deck has no *STEP: nothing to solve (a deck run as a case needs its "
                      "history, *STEP .. *END STEP)");
   if (spec_.title.empty()) spec_.title = spec_.file.stem().string();
+  for (const Amplitude& a : amplitudes_)
+    if (a.time.empty())
+      throw r.fail(a.used_line, fmt::format("the deck has no *AMPLITUDE named '{}'", a.name));
+  bind_sections(r);
   build_steps();
   build_materials(r);
   build_boundary(r);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "input/inp_history.hpp"
 
@@ -37,7 +38,10 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
       else
         r.element_targets(q.set, at);
     } else if (p == "FREQUENCY" || p == "FREQUENCYF") {
-      q.frequency = static_cast<int>(r.label(v, at, "frequency"));
+      const double f = r.real(v, at, "frequency");  // 0: none
+      if (!(f >= 0) || f != std::floor(f) || f > 1e9)
+        throw r.fail(at, fmt::format("{}= is a whole number >= 0, found '{}'", p, v));
+      q.frequency = static_cast<int>(f);
     } else if (p == "TOTALS") {
       const std::string t = upper(v);
       q.totals = t == "YES"    ? DeckRequest::Totals::yes
@@ -60,9 +64,21 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
              fmt::format("*{}: {} is not written (hencky writes {})", k.name, v,
                          fmt::join(w, ", ")));
     }
-  auto& per_step = requests_;
-  per_step.resize(steps_.size());
-  per_step.back().push_back(std::move(q));
+  requests_.resize(steps_.size());
+  // ccx: the FREQUENCY of any print request of a step is that of all of them (the last one given
+  // wins), and so is FREQUENCYF of the file requests.
+  const bool print = q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
+  const bool given = k.has("FREQUENCY") || k.has("FREQUENCYF");
+  for (DeckRequest& other : requests_.back()) {
+    const bool other_print = other.kind == DeckRequest::Kind::node_print ||
+                             other.kind == DeckRequest::Kind::el_print;
+    if (other_print != print) continue;
+    if (given)
+      other.frequency = q.frequency;
+    else
+      q.frequency = other.frequency;
+  }
+  requests_.back().push_back(std::move(q));
 }
 
 void DeckCase::build_requests() {

@@ -204,6 +204,7 @@ void InpReader::add_element(const std::string& type, const ElementKind& ek,
     ++renamed_types_[type];
   else if (type == "C3D8" || type == "C3D6" || (type == "C3D20" && !history_))
     ++convention_types_[type];
+  if (ek.kind == ElementKind::Kind::volume) ++volume_types_[type];
   element_of_label_.emplace(e, static_cast<int>(elements_.size()));
   elements_.push_back({e, ek, type, static_cast<int>(conn_.size()), line});
   conn_.insert(conn_.end(), labels.begin() + 1, labels.end());

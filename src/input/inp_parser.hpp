@@ -111,6 +111,8 @@ class InpReader {
   std::vector<ElementFace> face_targets(std::string_view target, int side, int line);
   /// The elements a line names: an element label or an ELSET's labels.
   std::vector<long> element_targets(std::string_view target, int line) const;
+  /// How many volume elements of each type (upper case, as written) the deck has.
+  const std::map<std::string, long>& volume_types() const { return volume_types_; }
   /// Every node label of the deck's *NODE lines.
   const std::vector<long>& node_labels() const { return node_label_; }
   /// A region the history makes from labels (InpReader::History::finish): a node set, an
@@ -206,6 +208,7 @@ class InpReader {
   std::unordered_map<long, int> element_of_label_;
   std::unordered_map<long, int> skipped_elements_;  // label -> line
   std::map<std::string, int> skipped_types_, renamed_types_, convention_types_;
+  std::map<std::string, long> volume_types_;
   std::map<std::string, Set> nsets_, elsets_;  // by upper-case name
   std::vector<std::string> nset_order_, elset_order_;
   /// By upper-case name and whether node-based: ccx keeps a node-based and an element-based
