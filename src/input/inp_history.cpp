@@ -77,6 +77,10 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
   if (n == "NODE PRINT" || n == "EL PRINT" || n == "NODE FILE" || n == "EL FILE" ||
       n == "NODE OUTPUT" || n == "ELEMENT OUTPUT")
     return output_request(r, k, at, first, end);
+  if (n == "RESTART" && k.has("READ"))
+    return refuse(r, at,
+                  "*RESTART, READ: hencky continues a run with --restart DIR, not from "
+                  "ccx's restart file");
   if (is_harmless(n)) return note(r, at, "*" + n + " has no meaning for hencky: left out");
   if (n == "HEAT TRANSFER" || n == "FILM" || n == "RADIATE" || n == "DFLUX" || n == "CFLUX" ||
       n == "COUPLED TEMPERATURE-DISPLACEMENT" || n == "UNCOUPLED TEMPERATURE-DISPLACEMENT")
@@ -269,8 +273,10 @@ void DeckCase::initial_conditions(InpReader& r, const Keyword& k, int at, int fi
 void DeckCase::amplitude(InpReader& r, const Keyword& k, int at, int first, int end) {
   const std::string* name = k.get("NAME");
   if (!name || name->empty()) throw r.fail(at, "*AMPLITUDE needs NAME=<name>");
-  for (const char* p : {"SHIFTX", "SHIFTY", "USER", "DEFINITION"})
-    if (k.has(p)) return refuse(r, at, fmt::format("*AMPLITUDE, {}=: not read by hencky", p));
+  for (const char* p : {"SHIFTX", "SHIFTY", "USER"})
+    if (k.has(p)) return refuse(r, at, fmt::format("*AMPLITUDE, {}: not read by hencky", p));
+  if (const std::string* d = k.get("DEFINITION"); d && upper(*d) != "TABULAR")
+    return refuse(r, at, "*AMPLITUDE, DEFINITION=" + *d + ": hencky reads TABULAR");
   Amplitude a;
   a.line = at;
   if (const std::string* time = k.get("TIME")) {

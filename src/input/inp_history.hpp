@@ -24,10 +24,10 @@ struct DeckStep {
 /// An *AMPLITUDE: a piecewise-linear factor over the step's time (or the total time).
 struct Amplitude {
   std::vector<double> time, value;  ///< empty: named by a condition, not defined yet
-  bool total_time = false;  ///< TIME=TOTAL TIME
-  std::string name;         ///< as first written
-  int used_line = -1;       ///< where a condition first named it
-  int used_step = -1;       ///< the last step whose conditions name it (-1: the model data)
+  bool total_time = false;          ///< TIME=TOTAL TIME
+  std::string name;                 ///< as first written
+  int used_line = -1;               ///< where a condition first named it
+  int used_step = -1;               ///< the last step whose conditions name it (-1: the model data)
   int line = 0;
 };
 
@@ -142,6 +142,8 @@ class DeckCase final : public History {
   std::map<std::string, int> notes_;  ///< output requests and the like: warned once each
   /// The output requests of each step (inp_history_output.cpp).
   std::vector<std::vector<DeckRequest>> requests_;
+  /// The output frequency of the prints and of the files in each step (ccx keeps one of each).
+  std::vector<std::array<int, 2>> frequency_;
   void build_requests();
 };
 

@@ -359,9 +359,12 @@ void DeckCase::finish(InpReader& r) {
                      "the deck has no *STEP: nothing to solve (a deck run as a case needs its "
                      "history, *STEP .. *END STEP)");
   if (spec_.title.empty()) spec_.title = spec_.file.stem().string();
-  for (const Amplitude& a : amplitudes_)
-    if (a.time.empty())
-      throw r.fail(a.used_line, fmt::format("the deck has no *AMPLITUDE named '{}'", a.name));
+  for (Amplitude& a : amplitudes_)
+    if (a.time.empty()) {  // refused where it is defined, or not defined at all
+      refuse(r, a.used_line, fmt::format("no *AMPLITUDE named '{}' that hencky reads", a.name));
+      a.time = {0.0};  // a placeholder for the rest of the reading; nothing is solved
+      a.value = {1.0};
+    }
   bind_sections(r);
   build_steps();
   build_materials(r);
@@ -377,7 +380,11 @@ void DeckCase::finish(InpReader& r) {
                          s + 1));
   if (!refusals_.empty()) {
     std::string list;
-    for (const auto& x : refusals_) list += "\n  " + x;
+    constexpr std::size_t shown = 40;  // a deck of another kind altogether: the first ones
+    for (std::size_t i = 0; i < std::min(refusals_.size(), shown); ++i)
+      list += "\n  " + refusals_[i];
+    if (refusals_.size() > shown)
+      list += fmt::format("\n  ... and {} more", refusals_.size() - shown);
     throw InputError(r.where(first_refusal_),
                      fmt::format("the deck asks for {} thing{} hencky cannot do; nothing was "
                                  "solved:{}",

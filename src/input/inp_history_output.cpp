@@ -65,18 +65,15 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
                          fmt::join(w, ", ")));
     }
   requests_.resize(steps_.size());
-  // ccx: the FREQUENCY of any print request of a step is that of all of them (the last one given
-  // wins), and so is FREQUENCYF of the file requests.
-  const bool print = q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
-  const bool given = k.has("FREQUENCY") || k.has("FREQUENCYF");
-  for (DeckRequest& other : requests_.back()) {
-    const bool other_print = other.kind == DeckRequest::Kind::node_print ||
-                             other.kind == DeckRequest::Kind::el_print;
-    if (other_print != print) continue;
-    if (given)
-      other.frequency = q.frequency;
-    else
-      q.frequency = other.frequency;
+  frequency_.resize(steps_.size(),
+                    frequency_.empty() ? std::array<int, 2>{1, 1} : frequency_.back());
+  // ccx (elprints.f, nodeprints.f, noelfiles.f): FREQUENCY=0 drops the request; a FREQUENCY
+  // above 0 is that of every request of its family (prints, files) from then on.
+  const bool print =
+      q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
+  if (k.has("FREQUENCY") || k.has("FREQUENCYF")) {
+    if (q.frequency == 0) return;
+    frequency_.back()[print ? 0 : 1] = q.frequency;
   }
   requests_.back().push_back(std::move(q));
 }
@@ -94,9 +91,14 @@ void DeckCase::build_requests() {
       active.erase(std::remove_if(active.begin(), active.end(), mine), active.end());
       std::copy_if(requests_[s].begin(), requests_[s].end(), std::back_inserter(active), mine);
     }
+    frequency_.resize(steps_.size(),
+                      frequency_.empty() ? std::array<int, 2>{1, 1} : frequency_.back());
     for (DeckRequest q : active) {
       q.start = steps_[s].start;
       q.end = steps_[s].end;
+      const bool print_kind =
+          q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
+      q.frequency = frequency_[s][print_kind ? 0 : 1];
       const bool print =
           q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
       (print ? dat : frd) = true;

@@ -127,3 +127,16 @@ if command -v cgx >/dev/null; then
 else
   bad "ccx decks: cgx is missing (scripts/setup.sh installs calculix-cgx)"
 fi
+# As ccx, a *SOLID SECTION may name a material the deck defines after it, and FREQUENCY=0 drops
+# a print request (ccx's elprints.f): beam10p with its *MATERIAL moved below the section and
+# FREQUENCY=0 on its *EL PRINT writes its U and RF blocks, no stress block.
+awk '/^\*MATERIAL/ {skip = 3} skip > 0 {held = held $0 "\n"; skip--; next}
+     {print} /^\*SOLID SECTION/ {printf "%s", held}' "$cd_/beam10p.inp" |
+  sed -e 's/^\*EL PRINT,ELSET=EALL$/*EL PRINT,ELSET=EALL,FREQUENCY=0/' >"$cd_/late-material.inp"
+grep -q "^\*SOLID SECTION" "$cd_/late-material.inp" && [ "$(grep -n '^\*SOLID SECTION' "$cd_/late-material.inp" | cut -d: -f1)" -lt "$(grep -n '^\*MATERIAL' "$cd_/late-material.inp" | cut -d: -f1)" ] ||
+  bad "ccx decks: the material was not moved below the section in late-material.inp"
+expect "ccx decks: a material defined after its section runs" 0 "" -- run "$cd_/late-material.inp" --quiet
+datcmp "... U and RF are beam10p's .dat.ref's, and there is no stress block" \
+  "$cd_/late-material.out/late-material.dat" "$suite/beam10p.dat.ref.gz" 1e-6 --blocks 2
+grep -q "stresses" "$cd_/late-material.out/late-material.dat" &&
+  bad "ccx decks: FREQUENCY=0 on *EL PRINT still wrote stresses" || ok "ccx decks: ... FREQUENCY=0: no stresses"
