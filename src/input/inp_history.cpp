@@ -77,6 +77,10 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
   if (n == "NODE PRINT" || n == "EL PRINT" || n == "NODE FILE" || n == "EL FILE" ||
       n == "NODE OUTPUT" || n == "ELEMENT OUTPUT")
     return output_request(r, k, at, first, end);
+  if (n == "PHYSICAL CONSTANTS")  // FreeCAD writes it into every deck
+    return note(r, at,
+                "*PHYSICAL CONSTANTS: left out (its absolute zero and Stefan-Boltzmann constant "
+                "serve heat transfer, which a deck's history does not reach yet)");
   if (n == "RESTART" && k.has("READ"))
     return refuse(r, at,
                   "*RESTART, READ: hencky continues a run with --restart DIR, not from "

@@ -136,7 +136,14 @@ DeckFiles::DeckFiles(const Model& model, const fs::path& dir) : model_(model) {
     dat_.open(dir / out.deck_dat);
     if (!dat_) throw OutputError("cannot write " + (dir / out.deck_dat).string());
   }
-  if (!out.deck_frd.empty()) frd_ = std::make_unique<FrdWriter>(dir / out.deck_frd, model.mesh());
+  if (!out.deck_frd.empty()) {
+    // The deck's materials, numbered in its order as ccx numbers them (those of its sections).
+    FrdWriter::Materials m;
+    for (const MaterialSpec& spec : model.spec().materials) m.names.push_back(spec.name);
+    for (int c = 0; c < model.mesh().cells.size(); ++c)
+      m.of_cell.push_back(model.material_index(c) + 1);
+    frd_ = std::make_unique<FrdWriter>(dir / out.deck_frd, model.mesh(), m);
+  }
 }
 
 DeckFiles::~DeckFiles() = default;

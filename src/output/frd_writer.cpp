@@ -127,7 +127,16 @@ std::span<const int> frd_from_gmsh(CellType t) {
   }
 }
 
-FrdWriter::FrdWriter(const std::filesystem::path& file, const Mesh& mesh) : file_(file) {
+FrdWriter::FrdWriter(const std::filesystem::path& file, const Mesh& mesh)
+    : FrdWriter(file, mesh, nullptr) {}
+
+FrdWriter::FrdWriter(const std::filesystem::path& file, const Mesh& mesh,
+                     const Materials& materials)
+    : FrdWriter(file, mesh, &materials) {}
+
+FrdWriter::FrdWriter(const std::filesystem::path& file, const Mesh& mesh,
+                     const Materials* materials)
+    : file_(file) {
   const int n_nodes = mesh.n_nodes();
   const CellSet& cells = mesh.cells;
   // Checked before the file is created, so that a mesh the format cannot hold leaves none.
@@ -147,13 +156,14 @@ FrdWriter::FrdWriter(const std::filesystem::path& file, const Mesh& mesh) : file
                      fmt::format("cannot write the result file: {}", std::strerror(errno)));
 
   try {
-    write_mesh(mesh, cell_order);
+    write_mesh(mesh, cell_order, materials);
   } catch (const OutputError& e) {
     throw InputError(e.what());  // the message names the file
   }
 }
 
-void FrdWriter::write_mesh(const Mesh& mesh, const std::vector<int>& cell_order) {
+void FrdWriter::write_mesh(const Mesh& mesh, const std::vector<int>& cell_order,
+                           const Materials* materials) {
   const int n_nodes = mesh.n_nodes();
   const CellSet& cells = mesh.cells;
   std::string s;
@@ -169,23 +179,36 @@ void FrdWriter::write_mesh(const Mesh& mesh, const std::vector<int>& cell_order)
   frd_user_line(s, "VERSION", "Version " HENCKY_VERSION);
   frd_user_line(s, "DIR", "");
   frd_user_line(s, "DBN", "");
-  // ccx lists its materials here, numbered from 1. hencky's counterpart is the volume region:
-  // the volume regions (dimension 3) are numbered from 1 in the order of Mesh::regions, a cell
-  // carries its region's number (0 without one), and each number that cells carry is listed
-  // with the region's name. A deck whose one ELSET of volumes holds the body gets 1, as from ccx.
-  std::vector<int> volume_number(mesh.regions.size(), 0);
-  for (int r = 0, n = 0; r < static_cast<int>(mesh.regions.size()); ++r)
-    if (mesh.regions[r].dim == 3) volume_number[r] = ++n;
-  auto material = [&](int c) {
-    const int r = c < static_cast<int>(mesh.cell_region.size()) ? mesh.cell_region[c] : -1;
-    return r >= 0 && r < static_cast<int>(volume_number.size()) ? volume_number[r] : 0;
-  };
-  std::vector<bool> listed(mesh.regions.size(), false);
+  // ccx lists its materials here, numbered from 1. Without them hencky's counterpart is the
+  // volume region: the volume regions (dimension 3) are numbered from 1 in the order of
+  // Mesh::regions, a cell carries its region's number (0 without one), and each number that cells
+  // carry is listed with the region's name. A deck whose one ELSET of volumes holds the body gets
+  // 1, as from ccx.
+  std::vector<int> number(static_cast<std::size_t>(cells.size()), 0);
+  std::vector<std::string> names;
+  if (materials) {
+    number = materials->of_cell;
+    number.resize(static_cast<std::size_t>(cells.size()), 0);
+    names = materials->names;
+  } else {
+    std::vector<int> volume_number(mesh.regions.size(), 0);
+    for (int r = 0; r < static_cast<int>(mesh.regions.size()); ++r)
+      if (mesh.regions[r].dim == 3) {
+        names.push_back(mesh.regions[r].name);
+        volume_number[r] = static_cast<int>(names.size());
+      }
+    for (int c = 0; c < cells.size(); ++c) {
+      const int r = c < static_cast<int>(mesh.cell_region.size()) ? mesh.cell_region[c] : -1;
+      number[c] = r >= 0 && r < static_cast<int>(volume_number.size()) ? volume_number[r] : 0;
+    }
+  }
+  auto material = [&](int c) { return number[static_cast<std::size_t>(c)]; };
+  std::vector<bool> listed(names.size() + 1, false);
   for (int c = 0; c < cells.size(); ++c)
-    if (material(c) > 0) listed[mesh.cell_region[c]] = true;
-  for (int r = 0; r < static_cast<int>(mesh.regions.size()); ++r)
-    if (listed[r])
-      fmt::format_to(put, "    1UMAT{:5d}{:<58.58}\n", volume_number[r], mesh.regions[r].name);
+    if (material(c) > 0 && material(c) <= static_cast<int>(names.size()))
+      listed[material(c)] = true;
+  for (std::size_t k = 1; k <= names.size(); ++k)
+    if (listed[k]) fmt::format_to(put, "    1UMAT{:5d}{:<58.58}\n", k, names[k - 1]);
 
   // Nodal point coordinate block (cgx manual: Format:(1X,'   2','C',18X,I12,37X,I1), the last
   // field 1 for the long ASCII format).

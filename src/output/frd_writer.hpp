@@ -68,6 +68,14 @@ class FrdWriter {
   /// be written as a .frd (labels not positive, repeated or wider than 10 digits; a face cell
   /// among the cells). Empty node_tag or cells.tag: labels 1..n.
   FrdWriter(const std::filesystem::path& file, const Mesh& mesh);
+  /// The cells' materials as ccx numbers and names them in the header and the element records:
+  /// cell c's number of_cell[c] (from 1; 0: none) and number k's name names[k - 1].
+  struct Materials {
+    std::vector<int> of_cell;
+    std::vector<std::string> names;
+  };
+  /// The same, each cell with its material's number instead of its volume region's.
+  FrdWriter(const std::filesystem::path& file, const Mesh& mesh, const Materials& materials);
   /// One result step (`step` from 1, its time): every field as a block. The blocks of the k-th
   /// call are result set k ("100CL  10k", as ccx counts the sets it writes); `step` is written as
   /// the increment of the "1PSTEP" line (ccx's step number there is 1). Throws
@@ -83,8 +91,9 @@ class FrdWriter {
   FrdWriter& operator=(const FrdWriter&) = delete;
 
  private:
+  FrdWriter(const std::filesystem::path& file, const Mesh& mesh, const Materials* materials);
   /// The header, the nodes and the elements (the constructor's part).
-  void write_mesh(const Mesh& mesh, const std::vector<int>& cell_order);
+  void write_mesh(const Mesh& mesh, const std::vector<int>& cell_order, const Materials* materials);
   /// Writes `text` and empties it; OutputError if the file cannot be written.
   void flush(std::string& text);
   std::filesystem::path file_;

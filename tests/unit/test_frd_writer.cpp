@@ -313,6 +313,24 @@ TEST(FrdWriter, TwoCellsTwoSteps) {
 }
 
 // More than six components: a node's values go on " -2" records, six to a record.
+// With the cells' materials given (a deck's, as ccx numbers them), the header lists them and
+// each element record carries its material's number, not its volume region's.
+TEST(FrdWriter, MaterialsAsGiven) {
+  const Mesh m = two_cells();
+  TempFile file("materials.frd");
+  {
+    FrdWriter w(file.path(), m, FrdWriter::Materials{{2, 1}, {"EL", "HY"}});
+    w.close();
+  }
+  const auto lines = read_lines(file.path());
+  EXPECT_NE(find_line(lines, "    1UMAT    1EL"), lines.size());
+  EXPECT_NE(find_line(lines, "    1UMAT    2HY"), lines.size());
+  EXPECT_EQ(find_line(lines, "    1UMAT    1Steel"), lines.size());
+  // Cell 7 (the hexahedron, he20 = 4) has material 2, cell 3 (te10 = 6) material 1.
+  EXPECT_NE(find_line(lines, " -1" + label10(7) + "    4    0    2"), lines.size());
+  EXPECT_NE(find_line(lines, " -1" + label10(3) + "    6    0    1"), lines.size());
+}
+
 TEST(FrdWriter, LongFieldsAndScalars) {
   Mesh m;
   add_cell(m, CellType::hex20,
