@@ -14,7 +14,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> mesh_keys = {"file", "order", "scale", "split"};
+const std::vector<std::string> mesh_keys = {"file", "order", "scale", "split", "regions"};
+const std::vector<std::string> label_region_keys = {"name", "nodes", "elements", "faces"};
 const std::vector<std::string> material_keys = {"name",         "regions", "E",
                                                 "nu",           "alpha",   "plasticity",
                                                 "conductivity", "density", "specific_heat"};
@@ -22,6 +23,7 @@ const std::vector<std::string> table_keys = {"temperature", "value"};
 
 const KeySection mesh_material_key_sections[] = {
     {"mesh", &mesh_keys},
+    {"mesh.regions[i]", &label_region_keys},
     {"materials[i]", &material_keys},
 };
 
@@ -34,9 +36,61 @@ std::span<const KeySection> mesh_material_sections() {
 // ---------------------------------------------------------------------------------------------
 // Mesh
 
+namespace {
+
+/// mesh.regions: regions named by the mesh's node and element labels.
+std::vector<LabelRegionSpec> read_label_regions(const Reader& r, const Val& x) {
+  std::vector<LabelRegionSpec> regions;
+  for (const auto& item : r.entries(x, "a list of regions named by labels")) {
+    Map m(r, item, label_region_keys,
+          "a region {name: tip, nodes: [labels]} (or elements: [labels], or faces: [[element, "
+          "face], ...])");
+    LabelRegionSpec g;
+    g.where = r.at(item);
+    g.name = r.string(m.require(r, "name", "the region's name, as conditions name it"));
+    for (const auto& other : regions)
+      if (other.name == g.name) r.fail(*m.get("name"), "region '" + g.name + "' is named twice");
+    const int lists = m.has("nodes") + m.has("elements") + m.has("faces");
+    if (lists != 1)
+      r.fail(item, "a region names exactly one of nodes, elements or faces, found " +
+                       std::to_string(lists));
+    auto labels = [&](const Val& v, std::vector<long>& out) {
+      for (const auto& e : r.list(v, "a list of labels [1, 2, ...]")) {
+        const long label = r.integer(e);
+        if (label < 1) r.fail(e, "a label is a whole number >= 1, found " + std::to_string(label));
+        out.push_back(label);
+        g.item_where.push_back(r.at(e));
+      }
+    };
+    if (auto v = m.get("nodes")) labels(*v, g.nodes);
+    if (auto v = m.get("elements")) labels(*v, g.elements);
+    if (auto v = m.get("faces"))
+      for (const auto& e : r.list(*v, "a list of faces [[element, face], ...]")) {
+        const auto pair = r.list(e, "a face [element label, face number 1 .. 6]");
+        if (pair.size() != 2) r.fail(e, "a face is [element label, face number 1 .. 6]");
+        const long label = r.integer(pair[0]), face = r.integer(pair[1]);
+        if (label < 1) r.fail(pair[0], "an element label is a whole number >= 1");
+        if (face < 1 || face > 6) r.fail(pair[1], "a face number is 1 .. 6 (S1 .. S6)");
+        g.faces.emplace_back(label, static_cast<int>(face));
+        g.item_where.push_back(r.at(e));
+      }
+    if (g.nodes.empty() && g.elements.empty() && g.faces.empty())
+      r.fail(item, "region '" + g.name + "' names no label");
+    regions.push_back(std::move(g));
+  }
+  return regions;
+}
+
+}  // namespace
+
 MeshSpec read_mesh(const Reader& r, const Val& v) {
   Map m(r, v, mesh_keys, "a map like {file: part.msh}");
   MeshSpec mesh;
+  if (auto g = m.get("regions")) {
+    if (auto s = m.get("split"); s && r.choice(*s, {"true", "false"}, "split") == "true")
+      r.fail(*g, "regions named by labels go with a whole mesh, not a split one");
+    mesh.regions = read_label_regions(r, *g);
+  }
   const Val file = m.require(r, "file", "the mesh, e.g. file: part.msh (or .geo, or .inp)");
   mesh.where = r.at(file);
   const std::string name = r.string(file, "a file name");

@@ -5,6 +5,7 @@
 #include "input/gmsh_reader.hpp"
 #include "input/inp_case.hpp"
 #include "input/inp_reader.hpp"
+#include "input/label_regions.hpp"
 
 namespace hencky {
 
@@ -39,6 +40,7 @@ Mesh read_mesh(const Case& spec, Log& log) {
   for (const auto& line : gmsh_log)
     if (line.rfind("Warning", 0) == 0) log.warn("Gmsh: " + line);
   for (const auto& line : inp_warnings) log.warn(line);
+  add_label_regions(mesh, spec.mesh.regions, is_inp_file(spec.mesh.file));
   return mesh;
 }
 

@@ -406,6 +406,17 @@ struct OutputSpec {
   std::string deck_dat, deck_frd;
 };
 
+/// A region named by the mesh's labels (mesh.regions): nodes by their labels (node tags), volume
+/// elements by theirs, or element faces as (element label, face number S1 .. S6 of the Abaqus
+/// and CalculiX manuals). Exactly one of the three lists is given.
+struct LabelRegionSpec {
+  std::string name;
+  std::vector<long> nodes, elements;
+  std::vector<std::pair<long, int>> faces;
+  SourceLocation where;                ///< the entry mesh.regions[i]
+  std::vector<SourceLocation> item_where;  ///< each label (face) given, for messages
+};
+
 struct MeshSpec {
   std::filesystem::path file;  ///< absolute; exists; .msh or .geo
   int order = 0;               ///< 0: as in the file, else 1 or 2
@@ -415,6 +426,7 @@ struct MeshSpec {
   /// stem with _1 .. _N, one per MPI rank (piece_file); `pieces` is N (each exists).
   bool split = false;
   int pieces = 0;
+  std::vector<LabelRegionSpec> regions;  ///< mesh.regions: regions named by labels
 };
 
 /// File k (from 0) of a split mesh: cyl.msh's are cyl_1.msh, cyl_2.msh, ...
