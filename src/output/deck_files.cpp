@@ -93,6 +93,16 @@ void frd_field(const std::string& variable, const State& state, const RecoveredF
   } else if (variable == "PEEQ") {
     f = {"PE", {"PE"}, {}};
     take(fields.nodal_eps_p_eq, 1);
+  } else if (variable == "E") {
+    // ccx's TOSTRAIN: the total strain with tensor shears (EXY = γ_xy / 2), in its order.
+    f = {"TOSTRAIN", {"EXX", "EYY", "EZZ", "EXY", "EYZ", "EZX"}, {}};
+    f.values.assign(n * 6, 0.0);
+    if (fields.nodal_strain.size() == n)
+      for (std::size_t a = 0; a < n; ++a) {
+        const Voigt& e = fields.nodal_strain[a];  // hencky's 11 22 33 23 31 12, engineering shears
+        const double ccx[6] = {e[0], e[1], e[2], e[5] / 2, e[3] / 2, e[4] / 2};
+        std::copy(ccx, ccx + 6, f.values.begin() + static_cast<std::ptrdiff_t>(6 * a));
+      }
   } else if (variable == "S") {
     f = {"STRESS", {"SXX", "SYY", "SZZ", "SXY", "SYZ", "SZX"}, {}};
     f.values.assign(n * 6, 0.0);

@@ -105,24 +105,24 @@ expect_cmd "ccx decks: hencky ccx -i beam10p runs in the deck's folder" 0 "" -- 
   bash -c "cd '$cd_/job' && '$(readlink -f "$bin")' ccx -i beam10p --quiet"
 datcmp "... and writes beam10p.dat there, the .dat.ref's to 1e-6" "$cd_/job/beam10p.dat" \
   "$suite/beam10p.dat.ref.gz" 1e-6
-# MODEL.frd: *NODE FILE U, RF and *EL FILE S on beam10p, beside ccx's own .frd of the deck: the
-# same node and element blocks (ccx's node order in each element), the same displacements and
-# forces, and nodal stresses (the points' values extrapolated to the nodes and averaged) within
-# 1e-5, the resolution of the format's 12.5E fields (measured 2026-11-28: 0, 5e-13 and 4.9e-6).
-sed -e 's/^\*END STEP/*NODE FILE\nU,RF\n*EL FILE\nS\n*END STEP/' "$cd_/beam10p.inp" >"$cd_/beam10p-frd.inp"
+# MODEL.frd: *NODE FILE U, RF and *EL FILE S, E on beam10p, beside ccx's own .frd of the deck:
+# the same node and element blocks (ccx's node order in each element), the same displacements
+# and forces, and nodal stresses and strains (the points' values extrapolated to the nodes and
+# averaged; ccx's tensor shears) within 1e-5, the resolution of the format's 12.5E fields.
+sed -e 's/^\*END STEP/*NODE FILE\nU,RF\n*EL FILE\nS,E\n*END STEP/' "$cd_/beam10p.inp" >"$cd_/beam10p-frd.inp"
 (cd "$cd_" && ccx -i beam10p-frd >beam10p-frd.ccx.log 2>&1) || bad "ccx decks: ccx failed on beam10p-frd"
 mkdir -p "$cd_/frd" && cp "$cd_/beam10p-frd.inp" "$cd_/frd/"
 expect_cmd "ccx decks: hencky ccx -i beam10p-frd writes beam10p-frd.frd" 0 "" -- \
   bash -c "cd '$cd_/frd' && '$(readlink -f "$bin")' ccx -i beam10p-frd --quiet && test -s beam10p-frd.frd"
-out="$("$ex_py" "$src/tests/tools/frd_compare.py" "$cd_/frd/beam10p-frd.frd" "$cd_/beam10p-frd.frd" 1e-5 DISP FORC STRESS 2>&1)" &&
-  ok "ccx decks: ... its mesh, DISP, FORC and STRESS are ccx's .frd's ($(tr '\n' ';' <<<"$out"))" ||
+out="$("$ex_py" "$src/tests/tools/frd_compare.py" "$cd_/frd/beam10p-frd.frd" "$cd_/beam10p-frd.frd" 1e-5 DISP FORC STRESS TOSTRAIN 2>&1)" &&
+  ok "ccx decks: ... its mesh, DISP, FORC, STRESS and TOSTRAIN are ccx's .frd's ($(tr '\n' ';' <<<"$out"))" ||
   bad "ccx decks: ... its .frd is not ccx's" "$out"
-# CalculiX GraphiX reads it (batch mode, no display): three datasets, the beam's volume 1 x 1 x 8.
+# CalculiX GraphiX reads it (batch mode, no display): its datasets, the beam's volume 1 x 1 x 8.
 if command -v cgx >/dev/null; then
   printf 'read beam10p-frd.frd\nds 1 e 1\nvolu all\nquit\n' >"$cd_/frd/read.fbd"
   out="$(cd "$cd_/frd" && timeout 60 cgx -bg read.fbd 2>&1)"
-  grep -q "reading Dataset No:3" <<<"$out" && grep -q "VOLUME:8.000000e+00" <<<"$out" &&
-    ! grep -qi "error" <<<"$out" && ok "ccx decks: ... cgx -bg reads it: 3 datasets, volume 8" ||
+  grep -q "reading Dataset No:4" <<<"$out" && grep -q "VOLUME:8.000000e+00" <<<"$out" &&
+    ! grep -qi "error" <<<"$out" && ok "ccx decks: ... cgx -bg reads it: 4 datasets, volume 8" ||
     bad "ccx decks: cgx did not read beam10p-frd.frd" "$(tail -20 <<<"$out")"
 else
   bad "ccx decks: cgx is missing (scripts/setup.sh installs calculix-cgx)"
