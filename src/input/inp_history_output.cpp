@@ -34,6 +34,7 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
   if (!in_step_) return refuse(r, at, "*" + k.name + " outside a *STEP");
   DeckRequest q;
   q.where = r.where(at);
+  int frequencyf = -1;  // FREQUENCYF= of this card, -1: not given
   const bool nodes = k.name.rfind("NODE", 0) == 0;
   const bool file =
       k.name.find("FILE") != std::string::npos || k.name.find("OUTPUT") != std::string::npos;
@@ -41,7 +42,7 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
                  : (file ? DeckRequest::Kind::el_file : DeckRequest::Kind::el_print);
   for (const auto& [p, v] : k.params) {
     if (p == "NSET" || p == "ELSET") {
-      q.set = unquote(v);
+      q.set = upper(unquote(v));  // as ccx writes it in the .dat's titles
       if (p == "NSET")
         r.node_targets(q.set, at);  // it must be an NSET
       else
@@ -50,7 +51,8 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
       const double f = r.real(v, at, "frequency");  // 0: none
       if (!(f >= 0) || f != std::floor(f) || f > 1e9)
         throw r.fail(at, fmt::format("{}= is a whole number >= 0, found '{}'", p, v));
-      q.frequency = static_cast<int>(f);
+      // FREQUENCY= is its own family's (prints or files), FREQUENCYF= the files'.
+      (p == "FREQUENCYF" ? frequencyf : q.frequency) = static_cast<int>(f);
     } else if (p == "TOTALS") {
       const std::string t = upper(v);
       q.totals = t == "YES"    ? DeckRequest::Totals::yes
@@ -76,13 +78,12 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
   requests_.resize(steps_.size());
   frequency_.resize(steps_.size(),
                     frequency_.empty() ? std::array<int, 2>{1, 1} : frequency_.back());
-  // ccx (elprints.f, nodeprints.f, noelfiles.f): FREQUENCY=0 drops the request; a FREQUENCY
+  // ccx (elprints.f, nodeprints.f, noelfiles.f): FREQUENCY=0 drops the request; a frequency
   // above 0 is that of every request of its family (prints, files) from then on.
-  const bool print =
-      q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
-  if (k.has("FREQUENCY") || k.has("FREQUENCYF")) {
+  if (frequencyf > 0) frequency_.back()[1] = frequencyf;
+  if (k.has("FREQUENCY")) {
     if (q.frequency == 0) return;
-    frequency_.back()[print ? 0 : 1] = q.frequency;
+    frequency_.back()[q.prints() ? 0 : 1] = q.frequency;
   }
   requests_.back().push_back(std::move(q));
 }
@@ -90,6 +91,8 @@ void DeckCase::output_request(InpReader& r, const Keyword& k, int at, int first,
 void DeckCase::build_requests() {
   // A step without requests of a kind keeps the last step's, as ccx does.
   requests_.resize(steps_.size());
+  frequency_.resize(steps_.size(),
+                    frequency_.empty() ? std::array<int, 2>{1, 1} : frequency_.back());
   std::vector<DeckRequest> active;
   bool dat = false, frd = false;
   for (std::size_t s = 0; s < steps_.size(); ++s) {
@@ -100,17 +103,11 @@ void DeckCase::build_requests() {
       active.erase(std::remove_if(active.begin(), active.end(), mine), active.end());
       std::copy_if(requests_[s].begin(), requests_[s].end(), std::back_inserter(active), mine);
     }
-    frequency_.resize(steps_.size(),
-                      frequency_.empty() ? std::array<int, 2>{1, 1} : frequency_.back());
     for (DeckRequest q : active) {
       q.start = steps_[s].start;
       q.end = steps_[s].end;
-      const bool print_kind =
-          q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
-      q.frequency = frequency_[s][print_kind ? 0 : 1];
-      const bool print =
-          q.kind == DeckRequest::Kind::node_print || q.kind == DeckRequest::Kind::el_print;
-      (print ? dat : frd) = true;
+      q.frequency = frequency_[s][q.prints() ? 0 : 1];
+      (q.prints() ? dat : frd) = true;
       spec_.output.deck_requests.push_back(std::move(q));
     }
   }

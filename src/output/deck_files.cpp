@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 
 #include "fem/reference_element.hpp"
 #include "output/frd_writer.hpp"
+#include "output/tensor_order.hpp"
 #include "parallel/mpi.hpp"
 #include "solve/recovery.hpp"
 
@@ -33,11 +33,6 @@ std::string e14(double v) {
   }
   return fmt::format("{:>14}", fmt::format("{}0.{:07.0f}E{}{:02d}", m < 0 ? "-" : "",
                                            std::abs(m) * 1e7, e < 0 ? '-' : '+', std::abs(e)));
-}
-
-std::string upper(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
 }
 
 /// ccx's natural coordinates of its full rule's points for a cell type (gauss.f), in its order.
@@ -93,25 +88,19 @@ void frd_field(const std::string& variable, const State& state, const RecoveredF
   } else if (variable == "PEEQ") {
     f = {"PE", {"PE"}, {}};
     take(fields.nodal_eps_p_eq, 1);
-  } else if (variable == "E") {
-    // ccx's TOSTRAIN: the total strain with tensor shears (EXY = γ_xy / 2), in its order.
-    f = {"TOSTRAIN", {"EXX", "EYY", "EZZ", "EXY", "EYZ", "EZX"}, {}};
+  } else if (variable == "E" || variable == "S") {
+    // ccx's TOSTRAIN and STRESS: XX YY ZZ XY YZ ZX, ParaView's order; strains with tensor shears.
+    const bool strain = variable == "E";
+    f = strain ? FrdField{"TOSTRAIN", {"EXX", "EYY", "EZZ", "EXY", "EYZ", "EZX"}, {}}
+               : FrdField{"STRESS", {"SXX", "SYY", "SZZ", "SXY", "SYZ", "SZX"}, {}};
+    const std::vector<Voigt>& v = strain ? fields.nodal_strain : fields.nodal_stress;
     f.values.assign(n * 6, 0.0);
-    if (fields.nodal_strain.size() == n)
-      for (std::size_t a = 0; a < n; ++a) {
-        const Voigt& e = fields.nodal_strain[a];  // hencky's 11 22 33 23 31 12, engineering shears
-        const double ccx[6] = {e[0], e[1], e[2], e[5] / 2, e[3] / 2, e[4] / 2};
-        std::copy(ccx, ccx + 6, f.values.begin() + static_cast<std::ptrdiff_t>(6 * a));
-      }
-  } else if (variable == "S") {
-    f = {"STRESS", {"SXX", "SYY", "SZZ", "SXY", "SYZ", "SZX"}, {}};
-    f.values.assign(n * 6, 0.0);
-    if (fields.nodal_stress.size() == n)
-      for (std::size_t a = 0; a < n; ++a) {
-        const Voigt& s = fields.nodal_stress[a];  // hencky's 11 22 33 23 31 12
-        const double ccx[6] = {s[0], s[1], s[2], s[5], s[3], s[4]};
-        std::copy(ccx, ccx + 6, f.values.begin() + static_cast<std::ptrdiff_t>(6 * a));
-      }
+    if (v.size() == n)
+      for (std::size_t a = 0; a < n; ++a)
+        for (int c = 0; c < 6; ++c)
+          f.values[6 * a + static_cast<std::size_t>(c)] =
+              strain ? tensor_order::tensor_component(v[a], c)
+                     : v[a][tensor_order::paraview_order[static_cast<std::size_t>(c)]];
   } else {
     return;
   }
@@ -142,6 +131,18 @@ std::vector<int> ccx_point_order(CellType type) {
 
 DeckFiles::DeckFiles(const Model& model, const fs::path& dir) : model_(model) {
   const OutputSpec& out = model.spec().output;
+  // Each print request's nodes (elements) in ascending labels, and each cell type's points in
+  // ccx's order: once, not at every step written.
+  for (const DeckRequest& q : out.deck_requests)
+    members_.push_back(q.kind == DeckRequest::Kind::el_print     ? cells_of(q)
+                       : q.kind == DeckRequest::Kind::node_print ? nodes_of(q)
+                                                                 : std::vector<int>{});
+  for (const CellType t :
+       {CellType::tet4, CellType::tet10, CellType::hex8, CellType::hex20, CellType::wedge6}) {
+    const auto k = static_cast<std::size_t>(t);
+    if (point_order_.size() <= k) point_order_.resize(k + 1);
+    point_order_[k] = ccx_point_order(t);
+  }
   if (!out.deck_dat.empty()) {
     dat_.open(dir / out.deck_dat);
     if (!dat_) throw OutputError("cannot write " + (dir / out.deck_dat).string());
@@ -193,11 +194,12 @@ std::vector<int> DeckFiles::cells_of(const DeckRequest& q) const {
   return cells;
 }
 
-void DeckFiles::node_block(const DeckRequest& q, const std::string& variable, const State& state,
+void DeckFiles::node_block(std::size_t index, const std::string& variable, const State& state,
                            double t) {
+  const DeckRequest& q = model_.spec().output.deck_requests[index];
   const Mesh& mesh = model_.mesh();
-  const std::string set = q.set.empty() ? std::string("NALL") : upper(q.set);
-  const auto nodes = nodes_of(q);
+  const std::string set = q.set.empty() ? std::string("NALL") : q.set;
+  const std::vector<int>& nodes = members_[index];
   if (variable == "NT") {
     dat_ << fmt::format("\n temperatures for set {} and time {}\n\n", set, e14(t));
     for (int n : nodes)
@@ -223,10 +225,11 @@ void DeckFiles::node_block(const DeckRequest& q, const std::string& variable, co
   }
 }
 
-void DeckFiles::element_block(const DeckRequest& q, const std::string& variable, const State& state,
+void DeckFiles::element_block(std::size_t index, const std::string& variable, const State& state,
                               double t) {
+  const DeckRequest& q = model_.spec().output.deck_requests[index];
   const Mesh& mesh = model_.mesh();
-  const std::string set = q.set.empty() ? std::string("EALL") : upper(q.set);
+  const std::string set = q.set.empty() ? std::string("EALL") : q.set;
   const bool stress = variable == "S";
   dat_ << (stress ? fmt::format("\n stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set "
                                 "{} and time {}\n\n",
@@ -234,9 +237,9 @@ void DeckFiles::element_block(const DeckRequest& q, const std::string& variable,
                   : fmt::format("\n equivalent plastic strain (elem, integ.pnt.,pe)for set {} "
                                 "and time {}\n\n",
                                 set, e14(t)));
-  for (int c : cells_of(q)) {
+  for (int c : members_[index]) {
     if (!model_.holds_points(c)) continue;
-    const auto order = ccx_point_order(mesh.cells.type[c]);
+    const std::vector<int>& order = point_order_[static_cast<std::size_t>(mesh.cells.type[c])];
     const int n = model_.point_offset(c + 1) - model_.point_offset(c);
     for (int j = 0; j < n; ++j) {
       const int p =
@@ -268,15 +271,16 @@ void DeckFiles::step_done(const StepReport& report, const State& state,
       break;
     }
   std::vector<FrdField> frd;
-  for (const DeckRequest& q : requests) {
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    const DeckRequest& q = requests[i];
     if (!due(q, t, increment_)) continue;
     for (const std::string& v : q.variables) switch (q.kind) {
         case DeckRequest::Kind::node_print:
-          node_block(q, v, state, t);
+          node_block(i, v, state, t);
           break;
         case DeckRequest::Kind::el_print:
           // On several ranks the points are spread over them: element blocks are serial only.
-          if (par::size() == 1) element_block(q, v, state, t);
+          if (par::size() == 1) element_block(i, v, state, t);
           break;
         case DeckRequest::Kind::node_file:
         case DeckRequest::Kind::el_file:

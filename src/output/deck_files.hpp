@@ -29,9 +29,9 @@ class DeckFiles {
  private:
   /// Whether request q asks for the step ending at t (the increment's count in its deck step).
   bool due(const DeckRequest& q, double t, int increment) const;
-  void node_block(const DeckRequest& q, const std::string& variable, const State& state, double t);
-  void element_block(const DeckRequest& q, const std::string& variable, const State& state,
-                     double t);
+  /// The blocks of variable `variable` of request `index` (of OutputSpec::deck_requests).
+  void node_block(std::size_t index, const std::string& variable, const State& state, double t);
+  void element_block(std::size_t index, const std::string& variable, const State& state, double t);
   std::vector<int> nodes_of(const DeckRequest& q) const;
   std::vector<int> cells_of(const DeckRequest& q) const;
 
@@ -39,6 +39,8 @@ class DeckFiles {
   std::ofstream dat_;
   std::unique_ptr<FrdWriter> frd_;
   int frd_steps_ = 0;
+  std::vector<std::vector<int>> members_;      ///< per request: its nodes or cells, by label
+  std::vector<std::vector<int>> point_order_;  ///< per CellType: ccx_point_order
   double step_start_ = -1;  ///< the deck step the last increment was in (its start time)
   int increment_ = 0;       ///< increments counted in that deck step
 };

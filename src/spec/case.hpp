@@ -123,8 +123,8 @@ struct TemperatureFile {
 };
 
 struct TemperatureSpec {
-  bool given = false;               ///< a temperature section is present
-  double reference = 0;             ///< T_ref, the stress-free temperature (required when given)
+  bool given = false;    ///< a temperature section is present
+  double reference = 0;  ///< T_ref, the stress-free temperature (required when given)
   /// T(x, y, z, t); exactly one of field / file / from_heat is set
   std::optional<Expression> field;
   std::optional<TemperatureFile> file;  ///< when given
@@ -134,10 +134,10 @@ struct TemperatureSpec {
   /// onto the trilinear functions, a 10-node tetrahedron's corners with the linear functions);
   /// default `element`: the cell's own functions, mid-edge nodes included.
   bool linear_in_quadratic_cells = false;
-  SourceLocation where;                 ///< the temperature section
-  SourceLocation reference_where;       ///< the value of temperature.reference
-  SourceLocation field_where;  ///< the value of temperature.field (key temperature.field.file
-                               ///< for a file)
+  SourceLocation where;            ///< the temperature section
+  SourceLocation reference_where;  ///< the value of temperature.reference
+  SourceLocation field_where;      ///< the value of temperature.field (key temperature.field.file
+                                   ///< for a file)
 };
 
 /// One condition of heat.boundary: a region's faces (or, for a temperature, its nodes).
@@ -314,9 +314,10 @@ struct SolverSpec {
   /// as the report writes them (solve/report_schemes.cpp), and the settings that would add
   /// one of hencky's strategies are refused.
   bool report = false;
-  StepTimes times;                    ///< end times of the steps
+  StepTimes times;  ///< end times of the steps
   /// Iteration limit per step: a number >= 1, or 0 for `auto` (the default): 50 for newton and
-  /// variable-stiffness, 200 for the fixed-matrix schemes (auto_max_iterations, solve/iteration_policy.cpp).
+  /// variable-stiffness, 200 for the fixed-matrix schemes (auto_max_iterations,
+  /// solve/iteration_policy.cpp).
   int max_iterations = 0;
   double tolerance = 1e-6;  ///< 0 < tolerance < 1
   /// Relaxation ω of the initial-strain schemes: a number > 0, or 0 for `auto` (the default):
@@ -326,7 +327,7 @@ struct SolverSpec {
   /// γ of the error correction (2.30), chosen per step as the report says: a number, or an
   /// expression of t evaluated at each step's end time; >= 0, and 0 turns the correction off.
   Expression correction{1.0};
-  int cutback = 4;          ///< >= 0
+  int cutback = 4;  ///< >= 0
   /// A plastic step whose largest displacement exceeds this fraction of the diagonal of the
   /// mesh's bounding box stops the run: the body has become a mechanism. > 0.
   double mechanism_limit = 0.05;
@@ -344,8 +345,8 @@ struct SolverSpec {
   Acceleration acceleration = Acceleration::automatic;
   /// `line_search: auto | none`: `auto` (the default) scales each correction of
   /// variable-stiffness and newton after the first of a step by one secant step on the
-  /// residual's work along it (LineSearch, solve/line_search.cpp); `none` takes the corrections whole,
-  /// as the report.
+  /// residual's work along it (LineSearch, solve/line_search.cpp); `none` takes the corrections
+  /// whole, as the report.
   bool line_search = true;
   /// `geometry: small | updated`. `small` (the default): every step on the undeformed mesh.
   /// `updated`: each step on the configuration at its start, X + u(t), the report's ^(t)Ω,
@@ -371,7 +372,9 @@ struct SolverSpec {
 struct DeckRequest {
   enum class Kind { node_print, el_print, node_file, el_file };
   Kind kind = Kind::node_print;
-  std::string set;  ///< the NSET (ELSET) named; empty: every node (element)
+  /// A print request (MODEL.dat), not a file request (MODEL.frd).
+  bool prints() const { return kind == Kind::node_print || kind == Kind::el_print; }
+  std::string set;  ///< the NSET (ELSET) named, upper case; empty: every node (element)
   std::vector<std::string> variables;  ///< upper case, those hencky writes: U, RF, NT, S, PEEQ
   /// Every `frequency`-th increment of the step and its last one; 0: none.
   int frequency = 1;
@@ -413,7 +416,7 @@ struct LabelRegionSpec {
   std::string name;
   std::vector<long> nodes, elements;
   std::vector<std::pair<long, int>> faces;
-  SourceLocation where;                ///< the entry mesh.regions[i]
+  SourceLocation where;                    ///< the entry mesh.regions[i]
   std::vector<SourceLocation> item_where;  ///< each label (face) given, for messages
 };
 
