@@ -9,6 +9,16 @@ namespace hencky::inp {
 
 namespace fs = std::filesystem;
 
+std::string read_text(const std::filesystem::path& file, const char* what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw InputError(SourceLocation{file.string(), 0, 0, ""},
+                     std::string("cannot open the ") + what);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string upper(std::string_view s) {
   std::string u(s);
   for (char& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));

@@ -2,6 +2,7 @@
 // The text of an Abaqus/CalculiX deck (input/inp_reader.hpp) as lines and keywords: comments
 // and blank lines dropped, *INCLUDE files read in place, keyword lines split into their name
 // and parameters. Abaqus Keywords Reference Guide; CalculiX User's Manual (ccx 2.20), section 6.
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -18,6 +19,9 @@ std::string upper(std::string_view s);
 std::string_view trim(std::string_view s);
 /// A name as written, without the quotes Abaqus allows around names with spaces.
 std::string unquote(std::string_view s);
+/// The whole text of a deck's file; an InputError naming it ("cannot open the `what`") when it
+/// cannot be read.
+std::string read_text(const std::filesystem::path& file, const char* what);
 /// The comma-separated fields of a line, trimmed (a comma inside quotes does not separate).
 std::vector<std::string_view> fields(std::string_view s);
 

@@ -28,4 +28,12 @@ std::span<const int> gmsh_from_abaqus(CellType t);
 /// Empty when the cell has no such face. Views static tables: nothing is allocated.
 std::span<const int> abaqus_face(CellType t, int side);
 
+/// The cell type of a face of `n` nodes (3, 4, 6 or 8: abaqus_face's sizes).
+inline CellType face_cell_type(std::size_t n) {
+  return n == 3   ? CellType::tri3
+         : n == 4 ? CellType::quad4
+         : n == 6 ? CellType::tri6
+                  : CellType::quad8;
+}
+
 }  // namespace hencky::inp

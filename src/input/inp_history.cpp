@@ -31,21 +31,19 @@ std::vector<std::vector<double>> DeckCase::numbers(const InpReader& r, int first
   return rows;
 }
 
-void DeckCase::refuse(const InpReader& r, int at, const std::string& why) {
+std::string DeckCase::place(const InpReader& r, int at) const {
   const Line& l = r.deck().lines[at];
-  refusals_.push_back(fmt::format("{}:{}: {}",
-                                  std::filesystem::path(r.deck().names[l.file]).filename().string(),
-                                  l.number, why));
+  return fmt::format("{}:{}", std::filesystem::path(r.deck().names[l.file]).filename().string(),
+                     l.number);
+}
+
+void DeckCase::refuse(const InpReader& r, int at, const std::string& why) {
+  refusals_.push_back(place(r, at) + ": " + why);
   if (first_refusal_ < 0) first_refusal_ = at;
 }
 
 void DeckCase::note(const InpReader& r, int at, const std::string& what) {
-  if (notes_.emplace(what, at).second) {
-    const Line& l = r.deck().lines[at];
-    warnings_.push_back(
-        fmt::format("{}:{}: {}", std::filesystem::path(r.deck().names[l.file]).filename().string(),
-                    l.number, what));
-  }
+  if (notes_.emplace(what, at).second) warnings_.push_back(place(r, at) + ": " + what);
 }
 
 void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int end) {
@@ -145,8 +143,9 @@ void DeckCase::material_keyword(InpReader& r, const Keyword& k, int at, int firs
   if (p.value.size() == 1) {
     p.temperature.clear();
   } else if (p.temperature.size() != p.value.size() ||
-             !std::is_sorted(p.temperature.begin(), p.temperature.end(),
-                             [](double a, double b) { return a <= b; })) {
+             std::adjacent_find(p.temperature.begin(), p.temperature.end(), [](double a, double b) {
+               return !(b > a);
+             }) != p.temperature.end()) {
     throw r.fail(at, "*" + k.name +
                          ": a table over temperature has a value and a temperature on each "
                          "line, the temperatures increasing");
@@ -282,7 +281,6 @@ void DeckCase::amplitude(InpReader& r, const Keyword& k, int at, int first, int 
   if (const std::string* d = k.get("DEFINITION"); d && upper(*d) != "TABULAR")
     return refuse(r, at, "*AMPLITUDE, DEFINITION=" + *d + ": hencky reads TABULAR");
   Amplitude a;
-  a.line = at;
   if (const std::string* time = k.get("TIME")) {
     const std::string t = upper(*time);
     if (t != "TOTAL TIME" && t != "STEP TIME")
@@ -294,13 +292,15 @@ void DeckCase::amplitude(InpReader& r, const Keyword& k, int at, int first, int 
     if (f.size() % 2 != 0) throw r.fail(l, "an *AMPLITUDE line holds pairs of time and value");
     for (std::size_t i = 0; i < f.size(); i += 2) {
       const double t = r.real(f[i], l, "time");
-      if (!a.time.empty() && !(t > a.time.back()))
+      auto& times = a.factor.temperature;
+      if (!times.empty() && !(t > times.back()))
         throw r.fail(l, "*AMPLITUDE: the times must increase");
-      a.time.push_back(t);
-      a.value.push_back(r.real(f[i + 1], l, "value"));
+      times.push_back(t);
+      a.factor.value.push_back(r.real(f[i + 1], l, "value"));
     }
   }
-  if (a.time.empty()) throw r.fail(at, "*AMPLITUDE without a pair of time and value");
+  if (!a.defined()) throw r.fail(at, "*AMPLITUDE without a pair of time and value");
+  a.factor.where = r.where(at);
   const auto [it, fresh] =
       amplitude_of_.try_emplace(upper(unquote(*name)), static_cast<int>(amplitudes_.size()));
   if (fresh) {
@@ -309,7 +309,7 @@ void DeckCase::amplitude(InpReader& r, const Keyword& k, int at, int first, int 
     return;
   }
   Amplitude& named = amplitudes_[static_cast<std::size_t>(it->second)];
-  if (!named.time.empty()) throw r.fail(at, fmt::format("amplitude '{}' is defined twice", *name));
+  if (named.defined()) throw r.fail(at, fmt::format("amplitude '{}' is defined twice", *name));
   // Named by a condition before it is defined, as ccx allows; not by one of a step that has
   // ended (its values at that step's end are already taken).
   if (named.used_step < step_index() && named.used_step >= 0)
@@ -387,10 +387,6 @@ Course::InStep& DeckCase::in_step(Course& c) {
   return c.step[s];
 }
 
-Course::InStep& DeckCase::in_step(std::map<NodeDof, Course>& courses, const NodeDof& key) {
-  return in_step(courses[key]);
-}
-
 int DeckCase::condition_options(InpReader& r, const Keyword& k, int at, bool& op_new,
                                 const std::vector<std::string>& allowed) {
   int amp = -1;
@@ -426,11 +422,7 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
   const int amp = condition_options(r, k, at, op_new, {"TYPE"});
   if (const std::string* type = k.get("TYPE"); type && upper(*type) != "DISPLACEMENT")
     return refuse(r, at, "*BOUNDARY, TYPE=" + *type + ": hencky prescribes displacements");
-  if (op_new)
-    for (auto& [key, c] : displacement_) {
-      Course::InStep& s = in_step(c);
-      if (!s.given) s.set = false;
-    }
+  if (op_new) remove_unnamed(displacement_, at, false);
   for (int l = first; l < end; ++l) {
     const auto f = r.data_in_place(l);
     if (f.size() < 2 || f[0].empty() || f[1].empty())
@@ -449,8 +441,7 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
     }
     for (long n : r.node_targets(f[0], l))
       for (long d = d1; d <= d2; ++d) {
-        Course::InStep& s = in_step(displacement_, {n, static_cast<int>(d - 1)});
-        s = {true, true, value, amp, l};
+        in_step(displacement_[{n, static_cast<int>(d - 1)}]) = {true, true, value, amp, l};
       }
   }
 }
@@ -458,7 +449,7 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
 void DeckCase::cload(InpReader& r, const Keyword& k, int at, int first, int end) {
   bool op_new = false;
   const int amp = condition_options(r, k, at, op_new, {});
-  if (op_new) remove_unnamed(cload_, at);
+  if (op_new) remove_unnamed(cload_, at, true);
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
     if (f.size() < 3) throw r.fail(l, "a *CLOAD line is 'node or NSET, dof, value'");
@@ -471,17 +462,15 @@ void DeckCase::cload(InpReader& r, const Keyword& k, int at, int first, int end)
                          d));
       continue;
     }
-    for (long n : r.node_targets(f[0], l)) {
-      Course::InStep& s = in_step(cload_, {n, static_cast<int>(d - 1)});
-      s = {true, true, value, amp, l};
-    }
+    for (long n : r.node_targets(f[0], l))
+      in_step(cload_[{n, static_cast<int>(d - 1)}]) = {true, true, value, amp, l};
   }
 }
 
 void DeckCase::dload(InpReader& r, const Keyword& k, int at, int first, int end) {
   bool op_new = false;
   const int amp = condition_options(r, k, at, op_new, {});
-  if (op_new) remove_unnamed(pressure_, at);
+  if (op_new) remove_unnamed(pressure_, at, true);
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
     if (f.size() < 3)
@@ -500,7 +489,7 @@ void DeckCase::dload(InpReader& r, const Keyword& k, int at, int first, int end)
       g.step = std::max(step_index(), 0);
       if (amp >= 0) refuse(r, at, "*DLOAD GRAV with an AMPLITUDE: not read by hencky");
       gravity_.push_back(g);
-      if (r.element_targets(f[0], l).size() < r.volume_elements())
+      if (!r.covers_body(r.element_targets(f[0], l)))
         refuse(r, l, "GRAV on a part of the body: hencky's body force acts on all of it");
       continue;
     }
@@ -517,10 +506,8 @@ void DeckCase::dload(InpReader& r, const Keyword& k, int at, int first, int end)
       refuse(r, l, "*DLOAD of type " + type + ": hencky reads P, P1 .. P6 and GRAV");
       continue;
     }
-    for (const ElementFace& face : r.face_targets(f[0], side, l)) {
-      Course::InStep& s = in_step(pressure_[face]);
-      s = {true, true, value, amp, l};
-    }
+    for (const ElementFace& face : r.face_targets(f[0], side, l))
+      in_step(pressure_[face]) = {true, true, value, amp, l};
   }
 }
 
@@ -529,11 +516,7 @@ void DeckCase::temperature(InpReader& r, const Keyword& k, int at, int first, in
   const int amp = condition_options(r, k, at, op_new, {"BSWITCH"});
   if (!in_step_) throw r.fail(at, "*TEMPERATURE outside a *STEP");
   if (amp >= 0) refuse(r, at, "*TEMPERATURE with an AMPLITUDE: not read by hencky yet");
-  if (op_new)
-    for (auto& [key, c] : temperature_) {
-      Course::InStep& s = in_step(c);
-      if (!s.given) s.set = false;  // back to the initial temperature
-    }
+  if (op_new) remove_unnamed(temperature_, at, false);
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
     if (f.size() < 2) throw r.fail(l, "a *TEMPERATURE line is 'node or NSET, temperature'");

@@ -23,12 +23,15 @@ struct DeckStep {
 
 /// An *AMPLITUDE: a piecewise-linear factor over the step's time (or the total time).
 struct Amplitude {
-  std::vector<double> time, value;  ///< empty: named by a condition, not defined yet
-  bool total_time = false;          ///< TIME=TOTAL TIME
-  std::string name;                 ///< as first written
-  int used_line = -1;               ///< where a condition first named it
-  int used_step = -1;               ///< the last step whose conditions name it (-1: the model data)
-  int line = 0;
+  /// The factor over time, linear between its points and constant beyond its ends: a table
+  /// whose `temperature` is the time (PropertyTable's interpolation). No value: named by a
+  /// condition, not defined yet.
+  PropertyTable factor;
+  bool total_time = false;  ///< TIME=TOTAL TIME
+  std::string name;         ///< as first written
+  int used_line = -1;       ///< where a condition first named it
+  int used_step = -1;       ///< the last step whose conditions name it (-1: the model data)
+  bool defined() const { return !factor.value.empty(); }
 };
 
 /// The value of one condition (a load at a node and direction, a pressure on a face, a
@@ -64,6 +67,8 @@ class DeckCase final : public History {
 
   // Reading (inp_history.cpp).
   std::vector<std::vector<double>> numbers(const InpReader& r, int first, int end) const;
+  /// "file:line" of line `at`, for the lists of refusals and warnings.
+  std::string place(const InpReader& r, int at) const;
   void refuse(const InpReader& r, int at, const std::string& why);
   void note(const InpReader& r, int at, const std::string& what);
   Material& current_material(const InpReader& r, const Keyword& k, int at);
@@ -84,15 +89,16 @@ class DeckCase final : public History {
   void temperature(InpReader& r, const Keyword& k, int at, int first, int end);
   void output_request(InpReader& r, const Keyword& k, int at, int first, int end);
   /// The course of a condition, with a slot for the current step.
-  Course::InStep& in_step(std::map<NodeDof, Course>& courses, const NodeDof& key);
   Course::InStep& in_step(Course& c);
-  /// OP=NEW of a load keyword at line `at`: the loads of that kind the step has not named yet
-  /// are removed, ramped down to zero over the step.
+  /// OP=NEW at line `at`: the conditions of `courses` the step has not named yet are removed;
+  /// `to_zero`: a load, which goes to 0 over the step; else a displacement (released) or a
+  /// temperature (back to the initial one).
   template <class Courses>
-  void remove_unnamed(Courses& courses, int at) {
+  void remove_unnamed(Courses& courses, int at, bool to_zero) {
     for (auto& [key, c] : courses) {
       Course::InStep& s = in_step(c);
-      if (!s.given) s = {true, false, 0.0, -1, at};
+      if (s.given) continue;
+      s = to_zero ? Course::InStep{true, false, 0.0, -1, at} : Course::InStep{};
     }
   }
   int step_index() const { return static_cast<int>(steps_.size()) - 1; }

@@ -13,8 +13,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <tuple>
 
 #include "input/inp_case.hpp"
@@ -50,31 +48,28 @@ double DeckCase::value_at_end(const Course& c, int s) const {
   if (!st.set) return 0;
   if (st.amplitude < 0) return st.value;
   const Amplitude& a = amplitudes_[static_cast<std::size_t>(st.amplitude)];
-  if (a.time.empty()) return st.value;  // not defined (yet): an error at the deck's end
+  if (!a.defined()) return st.value;  // not defined (yet): an error at the deck's end
   const DeckStep& step = steps_[static_cast<std::size_t>(s)];
-  const double tau = a.total_time ? step.end : step.end - step.start;
-  if (tau <= a.time.front()) return st.value * a.value.front();
-  if (tau >= a.time.back()) return st.value * a.value.back();
-  const std::size_t i = static_cast<std::size_t>(
-      std::upper_bound(a.time.begin(), a.time.end(), tau) - a.time.begin());
-  const double w = (tau - a.time[i - 1]) / (a.time[i] - a.time[i - 1]);
-  return st.value * (a.value[i - 1] + w * (a.value[i] - a.value[i - 1]));
+  return st.value * a.factor(a.total_time ? step.end : step.end - step.start);
 }
 
 std::string DeckCase::amplitude_expression(const Amplitude& a, double start) const {
   // In the step's own time τ = t − start unless TIME=TOTAL TIME; constant beyond its ends.
   const double shift = a.total_time ? 0.0 : start;
+  const std::vector<double>& time = a.factor.temperature;
+  const std::vector<double>& value = a.factor.value;
+  if (time.empty()) return num(value.front());  // one point: a constant
   std::vector<double> ends;
   std::vector<std::string> pieces;
-  ends.push_back(a.time.front() + shift);
-  pieces.push_back(num(a.value.front()));
-  for (std::size_t i = 0; i + 1 < a.time.size(); ++i) {
-    const double t0 = a.time[i] + shift, t1 = a.time[i + 1] + shift;
+  ends.push_back(time.front() + shift);
+  pieces.push_back(num(value.front()));
+  for (std::size_t i = 0; i + 1 < time.size(); ++i) {
+    const double t0 = time[i] + shift, t1 = time[i + 1] + shift;
     ends.push_back(t1);
-    pieces.push_back(fmt::format("({} + {}*(t - {})/{})", num(a.value[i]),
-                                 num(a.value[i + 1] - a.value[i]), num(t0), num(t1 - t0)));
+    pieces.push_back(fmt::format("({} + {}*(t - {})/{})", num(value[i]),
+                                 num(value[i + 1] - value[i]), num(t0), num(t1 - t0)));
   }
-  pieces.push_back(num(a.value.back()));
+  pieces.push_back(num(value.back()));
   return piecewise(ends, pieces);
 }
 
@@ -114,11 +109,12 @@ void DeckCase::build_steps() {
       std::none_of(steps_.begin(), steps_.end(), [](const DeckStep& s) { return s.nlgeom; });
   for (const DeckStep& s : steps_) {
     const double period = s.end - s.start;
-    const long n =
-        linear ? 1L : std::max(1L, static_cast<long>(std::ceil(period / s.increment - 1e-9)));
-    if (static_cast<long>(times.size()) + n > max_steps)
+    // Counted as a double first: a tiny increment must not overflow the cast.
+    const double count = linear ? 1.0 : std::max(1.0, std::ceil(period / s.increment - 1e-9));
+    if (static_cast<double>(times.size()) + count > static_cast<double>(max_steps))
       throw InputError(spec_.mesh.where,
                        fmt::format("the steps' increments make more than {} steps", max_steps));
+    const long n = static_cast<long>(count);
     for (long k = 1; k <= n; ++k)
       times.push_back(k == n ? s.end
                              : s.start + period * static_cast<double>(k) / static_cast<double>(n));
@@ -360,10 +356,9 @@ void DeckCase::finish(InpReader& r) {
                      "history, *STEP .. *END STEP)");
   if (spec_.title.empty()) spec_.title = spec_.file.stem().string();
   for (Amplitude& a : amplitudes_)
-    if (a.time.empty()) {  // refused where it is defined, or not defined at all
+    if (!a.defined()) {  // refused where it is defined, or not defined at all
       refuse(r, a.used_line, fmt::format("no *AMPLITUDE named '{}' that hencky reads", a.name));
-      a.time = {0.0};  // a placeholder for the rest of the reading; nothing is solved
-      a.value = {1.0};
+      a.factor.value = {1.0};  // a placeholder for the rest of the reading; nothing is solved
     }
   bind_sections(r);
   build_steps();
@@ -372,12 +367,14 @@ void DeckCase::finish(InpReader& r) {
   build_loads(r);
   build_temperature(r);
   build_requests();
-  for (std::size_t s = 0; s < steps_.size(); ++s)
-    if (steps_[s].nlgeom && !steps_.front().nlgeom)
-      refuse(r, steps_[s].line,
-             fmt::format("NLGEOM from step {} on: hencky's geometry is updated in every step or "
-                         "in none (give NLGEOM in the first step)",
-                         s + 1));
+  // NLGEOM stays on once given (DeckCase::step): the first step that has it says it all.
+  const auto late_nlgeom =
+      std::find_if(steps_.begin(), steps_.end(), [](const DeckStep& s) { return s.nlgeom; });
+  if (late_nlgeom != steps_.begin() && late_nlgeom != steps_.end())
+    refuse(r, late_nlgeom->line,
+           fmt::format("NLGEOM from step {} on: hencky's geometry is updated in every step or "
+                       "in none (give NLGEOM in the first step)",
+                       late_nlgeom - steps_.begin() + 1));
   if (!refusals_.empty()) {
     std::string list;
     constexpr std::size_t shown = 40;  // a deck of another kind altogether: the first ones
@@ -417,11 +414,7 @@ DeckRead parse_deck(std::string_view text, const fs::path& file) {
 }
 
 DeckRead read_deck(const fs::path& file, std::string* text) {
-  std::ifstream in(fs::absolute(file).lexically_normal(), std::ios::binary);
-  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot open the deck");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  std::string own = ss.str();
+  std::string own = inp::read_text(file, "deck");
   DeckRead d = parse_deck(own, file);
   if (text) *text = std::move(own);
   return d;

@@ -333,17 +333,39 @@ std::vector<long> InpReader::node_targets(std::string_view target, int line) con
     labels.push_back(n);
     return labels;
   }
-  const Set& s = find_set(nsets_, target, line, "NSET");
+  return set_nodes(find_set(nsets_, target, line, "NSET"));
+}
+
+std::vector<long> InpReader::set_nodes(const Set& s, long* gaps) const {
+  std::vector<long> labels;
   for (const Member& m : s.members)
     for (long k = 0, count = m.count(); k < count; ++k) {
       const long n = m.label(k);
-      if (node_of_label_.count(n))
+      if (node_of_label_.count(n)) {
         labels.push_back(n);
-      else if (!m.generated)
+      } else if (m.generated) {
+        if (gaps) ++*gaps;
+      } else {
         throw fail(m.line,
                    fmt::format("NSET '{}' names node {}, which no *NODE defines", s.name, n));
+      }
     }
   return labels;
+}
+
+bool InpReader::covers_body(const std::vector<long>& labels) const {
+  std::vector<long> volume;
+  for (long e : labels) {
+    const auto it = element_of_label_.find(e);
+    if (it != element_of_label_.end() &&
+        elements_[it->second].kind.kind == ElementKind::Kind::volume)
+      volume.push_back(e);
+  }
+  std::sort(volume.begin(), volume.end());
+  const auto unique = std::unique(volume.begin(), volume.end()) - volume.begin();
+  long body = 0;
+  for (const auto& [type, n] : volume_types_) body += n;
+  return unique == body;
 }
 
 std::vector<long> InpReader::element_targets(std::string_view target, int line) const {

@@ -97,12 +97,8 @@ class InpReader {
     return deck_.fail(deck_.lines[line], msg);
   }
   SourceLocation where(int line) const { return fail(line, "").where(); }
-  /// How many volume elements the deck has.
-  std::size_t volume_elements() const {
-    return static_cast<std::size_t>(
-        std::count_if(elements_.begin(), elements_.end(),
-                      [](const Element& e) { return e.kind.kind == ElementKind::Kind::volume; }));
-  }
+  /// Whether `labels` name every volume element of the deck (the whole body).
+  bool covers_body(const std::vector<long>& labels) const;
   /// The nodes a condition's line names (of line `line`): a node label, or an NSET's labels
   /// (those of its GENERATE ranges that no *NODE defines left out).
   std::vector<long> node_targets(std::string_view target, int line) const;
@@ -115,8 +111,6 @@ class InpReader {
   const std::map<std::string, long>& volume_types() const { return volume_types_; }
   /// Every node label of the deck's *NODE lines.
   const std::vector<long>& node_labels() const { return node_label_; }
-  /// A region the history makes from labels (InpReader::History::finish): a node set, an
-  /// element-based surface; `line` is where the labels come from, for messages.
   /// `name`, or `name` with a suffix when a set or surface of the deck already has it.
   std::string unused_name(std::string name) const {
     while (nsets_.count(upper(name)) || elsets_.count(upper(name)) ||
@@ -124,6 +118,8 @@ class InpReader {
       name += "_";
     return name;
   }
+  /// A region the history makes from labels (History::finish): a node set, an element-based
+  /// surface; `line` is where the labels come from, for messages.
   void add_node_set(const std::string& name, const std::vector<long>& labels, int line);
   void add_face_surface(const std::string& name, const std::vector<ElementFace>& faces, int line);
 
@@ -180,7 +176,10 @@ class InpReader {
 
   // The Mesh (inp_reader.cpp).
   Mesh build();
-  /// The nodes of a node set's labels that are on the body (each label must be a node).
+  /// The labels of a node set that *NODE defines: a label of no node is an error, but for those
+  /// of GENERATE ranges, left out (as ccx leaves them out) and counted in `gaps` when given.
+  std::vector<long> set_nodes(const Set& s, long* gaps = nullptr) const;
+  /// The nodes of a node set's labels that are on the body.
   void add_nodes(const Set& s, Region& r);
   void node_regions(Mesh& mesh);
   /// The element of a label that a set names (it must be an element of the deck); nullptr for

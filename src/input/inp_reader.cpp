@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "input/inp_parser.hpp"
 
@@ -72,19 +70,12 @@ Mesh InpReader::build() {
 }
 
 void InpReader::add_nodes(const Set& s, Region& r) {
-  for (const Member& m : s.members)
-    for (long k = 0, count = m.count(); k < count; ++k) {
-      const long n = m.label(k);
-      if (!node_of_label_.count(n)) {
-        if (m.generated) {
-          ++generate_gaps_[s.name];  // a range over numbers that are not all nodes: ccx's way
-          continue;
-        }
-        throw fail(m.line, fmt::format("NSET '{}' names node {}, which no *NODE defines", s.name, n));
-      }
-      auto it = body_node_.find(n);
-      if (it != body_node_.end()) r.nodes.push_back(it->second);
-    }
+  long gaps = 0;  // a GENERATE range over numbers that are not all nodes: ccx's way
+  for (long n : set_nodes(s, &gaps)) {
+    auto it = body_node_.find(n);
+    if (it != body_node_.end()) r.nodes.push_back(it->second);
+  }
+  if (gaps > 0) generate_gaps_[s.name] += gaps;
 }
 
 void InpReader::node_regions(Mesh& mesh) {
@@ -144,10 +135,7 @@ void InpReader::face_regions(Mesh& mesh) {
       int local[8];
       for (std::size_t a = 0; a < face.size(); ++a)
         local[a] = body_node_.at(conn_[e->offset + face[a]]);
-      const CellType ft = face.size() == 3   ? CellType::tri3
-                          : face.size() == 4 ? CellType::quad4
-                          : face.size() == 6 ? CellType::tri6
-                                             : CellType::quad8;
+      const CellType ft = face_cell_type(face.size());
       mesh.faces.add(ft, std::span<const int>(local, face.size()), label);
       r.cells.push_back(mesh.faces.size() - 1);
     };
@@ -284,8 +272,10 @@ void InpReader::warn() const {
     for (const auto& [name, n] : generate_gaps_)
       list += fmt::format("{}NSET '{}' ({} number{})", list.empty() ? "" : ", ", name, n,
                           n > 1 ? "s" : "");
-    warnings_->push_back(file + ": GENERATE ranges over numbers that no *NODE defines, left out "
-                                "as ccx leaves them out: " + list);
+    warnings_->push_back(file +
+                         ": GENERATE ranges over numbers that no *NODE defines, left out "
+                         "as ccx leaves them out: " +
+                         list);
   }
   if (!convention_types_.empty()) {
     // The unsuffixed types whose integration or interpolation is not ccx's (docs/case-reference.md,
@@ -297,8 +287,8 @@ void InpReader::warn() const {
                           bbar ? "hencky's B-bar strain, the volumetric strain the element's mean; "
                                  "ccx integrates them fully without it, stiffer in bending"
                                : "temperatures interpolated with the element's quadratic "
-                                 "functions; ccx projects them onto trilinear ones, as temperature.interpolation: "
-                                 "linear does");
+                                 "functions; ccx projects them onto trilinear ones, as "
+                                 "temperature.interpolation: linear does");
     }
     warnings_->push_back(file + ": elements that hencky and ccx treat differently: " + list);
   }
@@ -325,12 +315,7 @@ Mesh parse_inp(std::string_view text, const fs::path& file, const MeshReadOption
 
 Mesh read_inp(const fs::path& file, const MeshReadOptions& options,
               std::vector<std::string>* warnings) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{file.string(), 0, 0, ""}, "cannot open the mesh file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  return parse_inp(text, file, options, warnings);
+  return parse_inp(inp::read_text(file, "mesh file"), file, options, warnings);
 }
 
 bool is_inp_file(const fs::path& file) {

@@ -60,10 +60,7 @@ void add_label_regions(Mesh& mesh, const std::vector<LabelRegionSpec>& regions, 
           const auto j = std::find(perm.begin(), perm.end(), face[a]) - perm.begin();
           local[a] = nodes[static_cast<std::size_t>(j)];
         }
-        const CellType ft = face.size() == 3   ? CellType::tri3
-                            : face.size() == 4 ? CellType::quad4
-                            : face.size() == 6 ? CellType::tri6
-                                               : CellType::quad8;
+        const CellType ft = inp::face_cell_type(face.size());
         mesh.faces.add(ft, std::span<const int>(local, face.size()), label);
         r.cells.push_back(mesh.faces.size() - 1);
         ++k;
