@@ -59,7 +59,7 @@ def compare(mine, ref):
 
 def first_refusal(text):
     for line in text.splitlines():
-        m = re.match(r"^  \S+:\d+: (\*[A-Z][A-Z ]*[A-Z])", line)
+        m = re.match(r"^  \S+:\d+: (\*[A-Z][A-Z -]*[A-Z])", line)
         if m:
             return m.group(1)
     m = re.search(r"error: (?:\S+: )?(.*)", text)

@@ -99,6 +99,28 @@ rc=$?
   ok "ccx decks: a deck asking what hencky cannot do is refused (exit 1), each keyword with its line" ||
   bad "ccx decks: the refused deck's exit or message (exit $rc)" "$out"
 [ ! -e "$cd_/refused.out" ] && ok "ccx decks: ... and nothing is written" || bad "ccx decks: a refused deck wrote refused.out"
+# The .dat's other blocks against ccx on the same deck: beam20t with NT of every node, RF of the
+# supports CN7 as TOTALS=ONLY and of GIBO as TOTALS=YES (its ENER and ELSE blocks are not
+# written: 6 blocks of ccx's 8).
+awk '/^\*NODE PRINT,NSET=NALL$/ {print "*NODE PRINT,NSET=NALL\nU,NT\n*NODE PRINT,NSET=CN7,TOTALS=ONLY\nRF\n*NODE PRINT,NSET=GIBO,TOTALS=YES\nRF"; getline; next} {print}' \
+  "$cd_/beam20t.inp" >"$cd_/beam20t-prints.inp"
+(cd "$cd_" && ccx -i beam20t-prints >beam20t-prints.ccx.log 2>&1) || bad "ccx decks: ccx failed on beam20t-prints"
+expect "ccx decks: beam20t-prints.inp runs" 0 "" -- run "$cd_/beam20t-prints.inp" --quiet
+datcmp "... NT, and RF with TOTALS=ONLY and YES, as ccx's .dat (6 blocks)" \
+  "$cd_/beam20t-prints.out/beam20t-prints.dat" "$cd_/beam20t-prints.dat" 1e-6 --blocks 6
+# The print frequency, as ccx keeps it: beampiso without NLGEOM, as C3D20, in increments of 0.25
+# and then 0.5 (DIRECT), FREQUENCY=2 on step 1's *NODE PRINT only: both codes print at t = 0.5,
+# 1 and 2 (the frequency carried into step 2, whose other increment, 1.5, is not printed), and
+# the plastic strains and stresses at the 27 points of each element as well.
+sed -e 's/^\*STEP,NLGEOM/*STEP/' -e 's/C3D20R/C3D20 /' "$cd_/beampiso.inp" |
+  awk '/^\*EL PRINT/ {getline; next}
+       /^\*STATIC,DIRECT/ {n++; print; getline; print (n == 1 ? "0.25,1." : "0.5,1."); next}
+       /^\*NODE PRINT/ && !m {m = 1; print "*EL PRINT,ELSET=EALL\nPEEQ,S\n*NODE PRINT,NSET=NALL,FREQUENCY=2"; next}
+       {print}' >"$cd_/beampiso-frequency.inp"
+peer beampiso-frequency 1e-6 "the frequency carried into step 2, PEEQ and S of a plastic C3D20" dat
+grep -c "^ displacements" "$cd_/beampiso-frequency.out/beampiso-frequency.dat" | grep -qx 3 &&
+  ok "ccx decks: ... 3 displacement blocks of the 6 increments" ||
+  bad "ccx decks: the frequency did not leave 3 displacement blocks"
 # `hencky ccx -i JOB`, as a front end calls ccx: JOB.dat beside the deck, in the working folder.
 mkdir -p "$cd_/job" && cp "$cd_/beam10p.inp" "$cd_/job/"
 expect_cmd "ccx decks: hencky ccx -i beam10p runs in the deck's folder" 0 "" -- \
