@@ -77,7 +77,8 @@ int load_distributed(std::unique_ptr<Case> spec, const fs::path& dir,
   std::vector<int> owner;
   if (par::root()) {
     const Model& m = *whole.model;
-    out.mesh_line = fmt::format("{}; {} unknowns", describe_mesh(m.mesh()), m.dofs().n_free);
+    out.mesh_line = fmt::format("{}; {}", describe_mesh(m.mesh()),
+                                describe_unknowns(m, m.dofs().n_free, m.mesh().n_nodes()));
     owner = split_cells(m.mesh(), par::size());
     out.whole_mesh = checkpoint_mesh(m.mesh());
     out.contact_lines = describe_contact(m);
@@ -141,8 +142,8 @@ int load_split(std::unique_ptr<Case> spec, const fs::path& dir, const SourceLoca
     if (of_type[t] > 0)
       by_type[std::string(cell_name(static_cast<CellType>(t)))] = std::llround(of_type[t]);
   out.mesh_line =
-      fmt::format("{}; {} unknowns", describe_counts(m.global_nodes(), m.global_cells(), by_type),
-                  m.global_free());
+      fmt::format("{}; {}", describe_counts(m.global_nodes(), m.global_cells(), by_type),
+                  describe_unknowns(m, m.global_free(), m.global_nodes()));
   out.whole_mesh = broadcast_mesh_record(checkpoint_mesh_of_parts(m));
   out.parts_line = describe_parts(m, " each read its file of the split mesh;");
   out.contact_lines = describe_contact(m);
@@ -171,7 +172,8 @@ int load_replicated(std::unique_ptr<Case> spec, const fs::path& dir,
       }))
     return code;
   out.mesh_line =
-      fmt::format("{}; {} unknowns", describe_mesh(l.model->mesh()), l.model->dofs().n_free);
+      fmt::format("{}; {}", describe_mesh(l.model->mesh()),
+                  describe_unknowns(*l.model, l.model->dofs().n_free, l.model->mesh().n_nodes()));
   out.contact_lines = describe_contact(*l.model);
   return 0;
 }

@@ -70,7 +70,10 @@ int check(const std::string& case_path) {
   const Model& m = *l.model;
   if (!par::root()) return 0;  // under mpirun every rank checks, one reports
   std::cout << fmt::format("{}: ok\n  mesh: {}\n  unknowns: {}\n  steps: {}\n", case_path,
-                           describe_mesh(m.mesh()), m.dofs().n_free, l.spec->solver.times.size());
+                           describe_mesh(m.mesh()),
+                           m.spec().heat.only ? fmt::format("{} temperatures", m.mesh().n_nodes())
+                                              : std::to_string(m.dofs().n_free),
+                           l.spec->solver.times.size());
   std::cout << "  regions:";
   for (const auto& r : m.mesh().regions) std::cout << fmt::format(" {} ({}D)", r.name, r.dim);
   std::cout << "\n";

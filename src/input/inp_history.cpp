@@ -64,7 +64,9 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
   if (n == "END STEP") {
     if (!in_step_) return refuse(r, at, "*END STEP without a *STEP");
     if (!step_has_procedure_)
-      refuse(r, steps_.back().line, "*STEP without a procedure: hencky runs *STATIC steps");
+      refuse(r, steps_.back().line,
+             "*STEP without a procedure: hencky runs *STATIC, *HEAT TRANSFER and *COUPLED "
+             "TEMPERATURE-DISPLACEMENT steps");
     in_step_ = false;
     return;
   }
@@ -75,21 +77,20 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
   if (n == "NODE PRINT" || n == "EL PRINT" || n == "NODE FILE" || n == "EL FILE" ||
       n == "NODE OUTPUT" || n == "ELEMENT OUTPUT")
     return output_request(r, k, at, first, end);
-  if (n == "PHYSICAL CONSTANTS")  // FreeCAD writes it into every deck
-    return note(r, at,
-                "*PHYSICAL CONSTANTS: left out (its absolute zero and Stefan-Boltzmann constant "
-                "serve heat transfer, which a deck's history does not reach yet)");
+  if (n == "PHYSICAL CONSTANTS") return physical_constants(r, k, at);
+  if (n == "HEAT TRANSFER" || n == "COUPLED TEMPERATURE-DISPLACEMENT" ||
+      n == "UNCOUPLED TEMPERATURE-DISPLACEMENT")
+    return heat_procedure(r, k, at, first, end);
+  if (n == "FILM" || n == "RADIATE" || n == "DFLUX") return face_heat(r, k, at, first, end);
   if (n == "RESTART" && k.has("READ"))
     return refuse(r, at,
                   "*RESTART, READ: hencky continues a run with --restart DIR, not from "
                   "ccx's restart file");
   if (is_harmless(n)) return note(r, at, "*" + n + " has no meaning for hencky: left out");
-  if (n == "HEAT TRANSFER" || n == "FILM" || n == "RADIATE" || n == "DFLUX" || n == "CFLUX" ||
-      n == "COUPLED TEMPERATURE-DISPLACEMENT" || n == "UNCOUPLED TEMPERATURE-DISPLACEMENT")
+  if (n == "CFLUX")
     return refuse(r, at,
-                  "*" + n +
-                      ": a deck's heat transfer is not read yet; write the case as case.yaml "
-                      "with its heat section (docs/case-reference.md)");
+                  "*CFLUX: hencky's heat analysis has no heat flow into single nodes (a flux "
+                  "over faces is *DFLUX)");
   refuse(r, at, "*" + n + ": not a keyword hencky can honour");
 }
 
@@ -353,6 +354,8 @@ void DeckCase::statik(InpReader& r, const Keyword& k, int at, int first, int end
   if (step_has_procedure_) return refuse(r, at, "a second procedure in one *STEP");
   step_has_procedure_ = true;
   DeckStep& s = steps_.back();
+  s.procedure = DeckStep::Procedure::statik;
+  s.direct = k.has("DIRECT");
   for (const auto& [p, v] : k.params) {
     if (p == "DIRECT" || p == "SOLVER") continue;
     refuse(r, at, fmt::format("*STATIC, {}{}: not read by hencky", p, v.empty() ? "" : "=" + v));
@@ -422,7 +425,10 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
   const int amp = condition_options(r, k, at, op_new, {"TYPE"});
   if (const std::string* type = k.get("TYPE"); type && upper(*type) != "DISPLACEMENT")
     return refuse(r, at, "*BOUNDARY, TYPE=" + *type + ": hencky prescribes displacements");
-  if (op_new) remove_unnamed(displacement_, at, false);
+  if (op_new) {
+    remove_unnamed(displacement_, at, false);
+    remove_unnamed(fixed_temperature_, at, false);
+  }
   for (int l = first; l < end; ++l) {
     const auto f = r.data_in_place(l);
     if (f.size() < 2 || f[0].empty() || f[1].empty())
@@ -432,6 +438,12 @@ void DeckCase::boundary(InpReader& r, const Keyword& k, int at, int first, int e
     const double value = f.size() > 3 && !f[3].empty() ? r.real(f[3], l, "displacement") : 0.0;
     if (d2 < d1)
       throw r.fail(l, fmt::format("the last degree of freedom {} is below the first {}", d2, d1));
+    if (d1 == 11 && d2 == 11) {  // a temperature (heat transfer and coupled steps)
+      const double T = f.size() > 3 && !f[3].empty() ? r.real(f[3], l, "temperature") : 0.0;
+      for (long n : r.node_targets(f[0], l))
+        in_step(fixed_temperature_[n]) = {true, true, T, amp, l};
+      continue;
+    }
     if (d1 > 3 || d2 > 3) {
       refuse(r, l,
              fmt::format("*BOUNDARY on degree of freedom {}: hencky's solid elements have the "

@@ -5,6 +5,7 @@
 // entries (inp_history_case.cpp).
 #include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,10 +16,19 @@ namespace hencky::inp {
 
 /// One *STEP of the deck: its time span in the deck's total time and its increments.
 struct DeckStep {
+  /// The procedure: *STATIC; *HEAT TRANSFER (temperatures alone); *COUPLED (or UNCOUPLED)
+  /// TEMPERATURE-DISPLACEMENT (temperatures, then the displacements they cause).
+  enum class Procedure { none, statik, heat, coupled } procedure = Procedure::none;
   double start = 0, end = 1;  ///< total time at its start and end
-  double increment = 1;       ///< the first increment of *STATIC (DIRECT: every increment)
+  double increment = 1;       ///< the first increment (DIRECT: every increment)
+  double max_increment = 0;   ///< a transient heat step's largest increment; 0: the period
+  bool direct = false;        ///< DIRECT: fixed increments
+  bool steady = true;         ///< a heat or coupled step: STEADY STATE (else transient)
   bool nlgeom = false;
   int line = 0;  ///< the *STEP line
+  /// Temperatures solved in time: ccx applies the step's conditions at once (a step
+  /// amplitude) instead of ramping them over the step.
+  bool transient() const { return procedure != Procedure::statik && !steady; }
 };
 
 /// An *AMPLITUDE: a piecewise-linear factor over the step's time (or the total time).
@@ -87,6 +97,11 @@ class DeckCase final : public History {
   void cload(InpReader& r, const Keyword& k, int at, int first, int end);
   void dload(InpReader& r, const Keyword& k, int at, int first, int end);
   void temperature(InpReader& r, const Keyword& k, int at, int first, int end);
+  // Heat transfer (inp_history_heat.cpp).
+  void heat_procedure(InpReader& r, const Keyword& k, int at, int first, int end);
+  void physical_constants(InpReader& r, const Keyword& k, int at);
+  /// *FILM, *RADIATE, *DFLUX: conditions on element faces.
+  void face_heat(InpReader& r, const Keyword& k, int at, int first, int end);
   void output_request(InpReader& r, const Keyword& k, int at, int first, int end);
   /// The course of a condition, with a slot for the current step.
   Course::InStep& in_step(Course& c);
@@ -113,6 +128,9 @@ class DeckCase final : public History {
   void build_boundary(InpReader& r);
   void build_loads(InpReader& r);
   void build_temperature(InpReader& r);
+  /// The heat section of a deck with heat transfer or coupled steps (inp_history_heat.cpp).
+  void build_heat(InpReader& r);
+  bool has_heat() const;
 
   Case& spec_;
   std::vector<std::string> warnings_;
@@ -137,6 +155,14 @@ class DeckCase final : public History {
   std::map<NodeDof, Course> displacement_, cload_;
   std::map<ElementFace, Course> pressure_;
   std::map<long, Course> temperature_;
+  /// Heat transfer: prescribed temperatures (*BOUNDARY on degree of freedom 11) per node;
+  /// per face, a flux (*DFLUX), a film (*FILM: h and the sink temperature) and radiation
+  /// (*RADIATE: the emissivity and the sink temperature).
+  std::map<long, Course> fixed_temperature_;
+  std::map<ElementFace, Course> flux_;
+  std::map<ElementFace, std::array<Course, 2>> film_, radiate_;
+  std::optional<double> absolute_zero_, stefan_boltzmann_;
+  int constants_line_ = -1;
   std::map<long, double> initial_temperature_;
   int initial_line_ = -1;
   struct Gravity {

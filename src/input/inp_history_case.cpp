@@ -86,6 +86,8 @@ std::string DeckCase::expression(const Course& c) const {
       pieces.push_back(fmt::format(
           "{}*{}", num(st.value),
           amplitude_expression(amplitudes_[static_cast<std::size_t>(st.amplitude)], step.start)));
+    } else if (step.transient()) {  // applied at once (ccx's step amplitude)
+      pieces.push_back(num(st.value));
     } else {
       const double before = s == 0 ? 0.0 : value_at_end(c, static_cast<int>(s) - 1);
       pieces.push_back(before == st.value ? num(st.value)
@@ -107,26 +109,53 @@ void DeckCase::build_steps() {
       std::none_of(materials_.begin(), materials_.end(),
                    [](const Material& m) { return m.used && m.spec.plasticity; }) &&
       std::none_of(steps_.begin(), steps_.end(), [](const DeckStep& s) { return s.nlgeom; });
-  for (const DeckStep& s : steps_) {
-    const double period = s.end - s.start;
-    // Counted as a double first: a tiny increment must not overflow the cast.
-    const double count = linear ? 1.0 : std::max(1.0, std::ceil(period / s.increment - 1e-9));
+  auto too_many = [&](double count) {
     if (static_cast<double>(times.size()) + count > static_cast<double>(max_steps))
       throw InputError(spec_.mesh.where,
                        fmt::format("the steps' increments make more than {} steps", max_steps));
+  };
+  for (const DeckStep& s : steps_) {
+    const double period = s.end - s.start;
+    nlgeom = nlgeom || s.nlgeom;
+    if (s.transient() && !s.direct) {
+      // A transient's time discretization is its answer: the increments ccx takes when each
+      // converges at once (its automatic incrementation, User's Manual *CONTROLS): the first
+      // two of the initial size, then each 1.5 times the last, up to the largest increment,
+      // the last one cut at the step's end.
+      double t = s.start, dt = s.increment;
+      for (int k = 0; t < s.end; ++k) {
+        too_many(1.0);
+        if (k >= 2) dt *= 1.5;
+        if (s.max_increment > 0) dt = std::min(dt, s.max_increment);
+        t = s.end - t <= dt * (1 + 1e-9) ? s.end : t + dt;
+        times.push_back(t);
+      }
+      continue;
+    }
+    // Counted as a double first: a tiny increment must not overflow the cast.
+    const double count =
+        linear && !s.transient() ? 1.0 : std::max(1.0, std::ceil(period / s.increment - 1e-9));
+    too_many(count);
     const long n = static_cast<long>(count);
     for (long k = 1; k <= n; ++k)
       times.push_back(k == n ? s.end
                              : s.start + period * static_cast<double>(k) / static_cast<double>(n));
-    nlgeom = nlgeom || s.nlgeom;
   }
   spec_.solver.times = StepTimes::list(times);
   spec_.solver.updated_geometry = nlgeom;
 }
 
 void DeckCase::build_materials(InpReader& r) {
+  const bool heat_only = std::all_of(steps_.begin(), steps_.end(), [](const DeckStep& s) {
+    return s.procedure == DeckStep::Procedure::heat;
+  });
   for (Material& m : materials_) {
     if (!m.used) continue;
+    if (m.spec.E.value.empty() && heat_only) {  // never used: nothing mechanical is solved
+      m.spec.E.value = {1.0};
+      m.spec.nu.value = {0.0};
+      m.spec.E.where = m.spec.nu.where = m.spec.where;
+    }
     if (m.spec.E.value.empty()) {  // a material hencky lacks (refused where it is given)
       refuse(r, m.line, fmt::format("material '{}' has no *ELASTIC", m.spec.name));
       continue;
@@ -274,7 +303,7 @@ void DeckCase::build_temperature(InpReader& r) {
   for (const MaterialSpec& m : spec_.materials)
     tables = tables || !m.E.is_constant() || !m.nu.is_constant() || !m.alpha.is_constant() ||
              (m.plasticity && m.plasticity->curve.tables.size() > 1);
-  if (temperature_.empty() && initial_temperature_.empty() && !tables) return;
+  if (!has_heat() && temperature_.empty() && initial_temperature_.empty() && !tables) return;
   ts.given = true;
   ts.where = ts.field_where = ts.reference_where =
       initial_line_ >= 0 ? r.where(initial_line_) : SourceLocation{spec_.file.string(), 0, 0, ""};
@@ -284,7 +313,7 @@ void DeckCase::build_temperature(InpReader& r) {
     return it == initial_temperature_.end() ? 0.0 : it->second;
   };
   double lo = INFINITY, hi = -INFINITY;
-  for (long n : labels) {
+  for (long n : r.body_node_labels()) {  // a node on no element has no say
     lo = std::min(lo, initial(n));
     hi = std::max(hi, initial(n));
   }
@@ -325,6 +354,7 @@ void DeckCase::build_temperature(InpReader& r) {
            fmt::format("*INITIAL CONDITIONS: the initial temperatures range from {:g} to {:g}; "
                        "hencky's stress-free temperature is one value for the body",
                        lo, hi));
+  if (has_heat()) return;  // the heat analysis's temperatures (build_heat)
   if (temperature_.empty() && lo == hi) {
     ts.field = Expression(ts.reference);
     return;
@@ -366,6 +396,7 @@ void DeckCase::finish(InpReader& r) {
   build_boundary(r);
   build_loads(r);
   build_temperature(r);
+  build_heat(r);
   build_requests();
   // NLGEOM stays on once given (DeckCase::step): the first step that has it says it all.
   const auto late_nlgeom =

@@ -353,6 +353,16 @@ std::vector<long> InpReader::set_nodes(const Set& s, long* gaps) const {
   return labels;
 }
 
+std::vector<long> InpReader::body_node_labels() const {
+  std::vector<long> nodes;
+  for (const Element& e : elements_)
+    if (e.kind.kind == ElementKind::Kind::volume)
+      nodes.insert(nodes.end(), conn_.begin() + e.offset, conn_.begin() + e.offset + e.kind.nodes);
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
 bool InpReader::covers_body(const std::vector<long>& labels) const {
   std::vector<long> volume;
   for (long e : labels) {

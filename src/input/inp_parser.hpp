@@ -97,6 +97,8 @@ class InpReader {
     return deck_.fail(deck_.lines[line], msg);
   }
   SourceLocation where(int line) const { return fail(line, "").where(); }
+  /// The labels of the volume elements' nodes, sorted.
+  std::vector<long> body_node_labels() const;
   /// Whether `labels` name every volume element of the deck (the whole body).
   bool covers_body(const std::vector<long>& labels) const;
   /// The nodes a condition's line names (of line `line`): a node label, or an NSET's labels

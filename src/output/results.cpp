@@ -398,7 +398,8 @@ nlohmann::json ResultWriter::report() const {
 
 std::vector<std::string> ResultWriter::report_lines() const {
   std::vector<std::string> lines;
-  if (balance_time_ < 0) return lines;
+  // A heat analysis alone (HeatSpec::only) has no stresses, displacements or forces to report.
+  if (balance_time_ < 0 || model_.spec().heat.only) return lines;
   const auto where = [](const Peak& p) {
     return fmt::format("at node {} ({:.4g}, {:.4g}, {:.4g}), t = {:g}", p.at.node, p.at.x.x(),
                        p.at.x.y(), p.at.x.z(), p.time);

@@ -16,6 +16,11 @@
 
 namespace hencky {
 
+std::string describe_unknowns(const Model& model, long long free, long long nodes) {
+  return model.spec().heat.only ? fmt::format("{} temperatures", nodes)
+                                : fmt::format("{} unknowns", free);
+}
+
 std::string describe_mesh(const Mesh& mesh) {
   std::map<std::string, long long> by_type;
   for (auto t : mesh.cells.type) ++by_type[std::string(cell_name(t))];

@@ -17,6 +17,9 @@ std::string describe_mesh(const Mesh& mesh);
 /// The same from counts: nodes, cells, and cells by type name.
 std::string describe_counts(long long nodes, long long cells,
                             const std::map<std::string, long long>& by_type);
+/// "2349 unknowns": the free displacements; for a heat analysis alone (HeatSpec::only) "261
+/// temperatures", the nodes'.
+std::string describe_unknowns(const Model& model, long long free, long long nodes);
 /// One line per contact: its surface, nodes, those touching at t = 0 and the range of κ.
 std::vector<std::string> describe_contact(const Model& model);
 

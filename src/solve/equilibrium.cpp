@@ -87,6 +87,10 @@ State Equilibrium::initial_state() const {
 bool Equilibrium::step(const State& c, double t1, State& trial, StepOutcome& out) {
   out = StepOutcome{};
   ++attempts_;
+  if (m_.spec().heat.only) {  // nothing mechanical: the step is the heat solution at t1
+    iterate_.temperatures_only(c, t1, trial);
+    return true;
+  }
   iterate_.begin(c, t1, trial);
   // Under `updated` the prescribed displacements of the step first spread into the body; the
   // forces of that motion on the body held as it was are a force scale of the step (what its

@@ -84,6 +84,7 @@ void HeatSolver::start() {
   s0.energy.assign(spec_.boundary.size(), 0.0);
   const ScopedTimer timer(seconds_);
   if (spec_.transient) {
+    if (spec_.fixed_from_start) fixed_temperatures(0.0, s0.T);
     Evaluation ev;
     evaluate(s0.T, s0, 0.0, false, ev);
     mem_.R_last = std::move(ev.R);

@@ -45,6 +45,16 @@ double IterateEvaluator::step_force(const State& c, const State& trial,
   return std::max({norm(trial.f_ext), norm(c.f_int), norm(trial.f_int), std::sqrt(ev.r_loads2)});
 }
 
+void IterateEvaluator::temperatures_only(const State& c, double t1, State& trial) {
+  trial = c;
+  trial.time = t1;
+  {
+    ScopedTimer timer(timings_.heat);
+    heat_->at(t1, trial.nodal_temperature, trial.heat_flow);
+  }
+  points_.temperatures(trial, log_);
+}
+
 void IterateEvaluator::begin(const State& c, double t1, State& trial) {
   const auto& dofs = m_.dofs();
   trial.time = t1;

@@ -30,6 +30,9 @@ class IterateEvaluator {
   /// The step's loads, temperatures and prescribed displacements at t1, the points' and the
   /// contact's set-up, and the equilibrium target (2.29)-(2.30).
   void begin(const State& c, double t1, State& trial);
+  /// A heat analysis alone (HeatSpec::only): the step to t1 is its temperatures, at the nodes
+  /// and the points; the rest of `trial` is c's.
+  void temperatures_only(const State& c, double t1, State& trial);
   /// The iterate trial.u: points and internal forces, then (with `update_contact`, after a
   /// solve) the contact's steps 3-4, then the residual. `mode`: how the points of plastic
   /// materials are evaluated (PointPass::update).

@@ -48,7 +48,7 @@ void Model::bind(Log& log) {
   bind_heat();
   bind_outputs();
   bind_contact();
-  if (!dist_.part) check_held(log);
+  if (!dist_.part && !case_->heat.only) check_held(log);  // nothing mechanical to hold
 }
 
 Model::Model(const Case& c, Mesh mesh, Log& log) : case_(&c), mesh_(std::move(mesh)) {

@@ -72,7 +72,7 @@ void Model::join(Log& log) {
                                    r.name, has_heat() ? " or temperature" : ""));
   }
   bind_contact_of_part();
-  check_held(log);
+  if (!case_->heat.only) check_held(log);
 }
 
 void Model::check_outer_faces() const {
@@ -166,7 +166,7 @@ void Model::check_whole() const {
             mesh_.find_region(bc.region, 2, 2, region_names_ignore_case())->cells.size())) == 0)
       throw InputError(bc.where, fmt::format("region '{}' has no faces to load", bc.region));
   }
-  if (!par::any(!loads_.prescribed.empty()))
+  if (!par::any(!loads_.prescribed.empty()) && !case_->heat.only)
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");

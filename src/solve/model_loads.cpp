@@ -81,7 +81,7 @@ void Model::bind_boundary() {
   bool any = false;
   for (bool p : prescribed) any = any || p;
   // With contact the rigid surfaces may hold the body (check_held decides).
-  if (!any && case_->contact.empty())
+  if (!any && case_->contact.empty() && !case_->heat.only)
     throw InputError(SourceLocation{case_->file.string(), 0, 0, "boundary"},
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");

@@ -3,6 +3,7 @@
 // the equilibrium iteration's business (equilibrium.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <deque>
 #include <optional>
 
@@ -118,7 +119,12 @@ bool attempt(const Model& model, Equilibrium& eq, const State& committed, double
 /// The log lines of a converged step.
 void log_step(const Model& model, const Equilibrium& eq, const StepReport& report,
               const State& committed, Log& log) {
-  if (model.has_plasticity()) {
+  if (model.spec().heat.only) {  // nothing mechanical was solved
+    const auto [lo, hi] =
+        std::minmax_element(committed.nodal_temperature.begin(), committed.nodal_temperature.end());
+    log.info("step {:4d}  t = {:<10.6g} temperatures {:.6g} .. {:.6g}", report.step, report.time,
+             *lo, *hi);
+  } else if (model.has_plasticity()) {
     log.info("step {:4d}  t = {:<10.6g} iterations {:3d}  residual {:.2e}  plastic points {}",
              report.step, report.time, report.iterations, report.residual, report.plastic_points);
     eq.check_curves(committed);

@@ -174,6 +174,14 @@ struct HeatSpec {
   /// required with radiation, and σ in W/(m²·K⁴).
   std::optional<double> absolute_zero;
   double stefan_boltzmann = 5.670374419e-8;
+  /// A heat analysis alone (a deck of *HEAT TRANSFER steps, docs/ccx-decks.md): each step is
+  /// the heat solution at its time; nothing mechanical is solved (the displacements, stresses
+  /// and forces stay zero) and the materials need no elastic constants.
+  bool only = false;
+  /// A transient's prescribed temperatures hold from t = 0 on: the nodes start at their
+  /// prescribed value at t = 0 rather than at `initial` (what ccx does, for a deck); the
+  /// default keeps the initial field, which the first step's capacity term then sees.
+  bool fixed_from_start = false;
   SourceLocation where;  ///< the heat section
 };
 

@@ -1,0 +1,84 @@
+# Sourced by run_cli_tests.sh ($bin, $src, $work, expect, ok, bad; helpers in 05_helpers.sh).
+# Issue 48, item 1: a deck's heat transfer. *HEAT TRANSFER (steady and transient) and *COUPLED
+# TEMPERATURE-DISPLACEMENT with the temperatures of *BOUNDARY's degree of freedom 11, *FILM,
+# *RADIATE, *DFLUX and *PHYSICAL CONSTANTS, checked against CalculiX's own test decks
+# (calculix-ccx-test) and their .dat.ref, and against ccx 2.20 on variants of them.
+hd_="$work/ccx-heat"
+rm -rf "$hd_" && mkdir -p "$hd_"
+suite=/usr/share/doc/calculix-ccx-test/examples/test
+if [ ! -f "$suite/beamth.inp.gz" ] || ! command -v ccx >/dev/null; then
+  bad "ccx heat: calculix-ccx-test or calculix-ccx is missing (scripts/setup.sh installs them)"
+  return 0
+fi
+# The package keeps the small decks as they are and gzips the others.
+ref() { if [ -f "$suite/$1.dat.ref" ]; then echo "$suite/$1.dat.ref"; else echo "$suite/$1.dat.ref.gz"; fi; }
+for d in oneel20fi oneel8ra oneel20df beamth beamhtbo; do
+  if [ -f "$suite/$d.inp" ]; then cp "$suite/$d.inp" "$hd_/"; else zcat "$suite/$d.inp.gz" >"$hd_/$d.inp"; fi
+done
+hdat() {  # hdat WHAT A.dat B.dat BOUND [--blocks N]
+  local out
+  out="$("$ex_py" "$src/tests/tools/dat_compare.py" "$2" "$3" "$4" "${@:5}" 2>&1)" &&
+    ok "ccx heat: $1 ($(tr '\n' ';' <<<"$out"))" || bad "ccx heat: $1" "$out"
+}
+# Steady heat transfer alone, every deck's NT against its .dat.ref (7 printed digits; the RFL
+# and HFL blocks are not written): a film on one face of a C3D20R cube (h = 10, sink -12), a
+# flux into one face (-100, *DFLUX), radiation from one face of a C3D8 (emissivity 1, sink -12,
+# *PHYSICAL CONSTANTS' absolute zero and Stefan-Boltzmann constant), and beamhtbo's
+# conductivity that steps from 50 to 100 at 52 degrees (a table over temperature).
+for d in oneel20fi oneel20df oneel8ra beamhtbo; do
+  expect "ccx heat: $d.inp runs as given" 0 "" -- run "$hd_/$d.inp" --quiet
+  hdat "$d's temperatures are its .dat.ref's to 1e-6" "$hd_/$d.out/$d.dat" "$(ref "$d")" 1e-6 --blocks 1
+done
+expect "ccx heat: check counts a heat analysis alone's temperatures" 0 "unknowns: 20 temperatures" -- \
+  check "$hd_/oneel20fi.inp"
+# A transient (beamth: 100 degrees on one end from t = 0, initial 20, 10 s in ccx's automatic
+# increments from 1e-3, FREQUENCY=10): hencky takes the increments ccx takes when each converges
+# at once (two of 1e-3, then 1.5 times the last), 23 of them, and prints at the same three. As
+# C3D20 the two codes integrate alike: ccx's temperatures to their printed digits; as given
+# (C3D20R) ccx's reduced integration of the capacity and the conductivity differs from hencky's
+# full one by 1.1e-3 of the range at the first print (t = 0.076, the steepest gradients), 1e-7
+# at the end.
+sed -e 's/TYPE=C3D20R/TYPE=C3D20/' "$hd_/beamth.inp" >"$hd_/beamth20.inp"
+(cd "$hd_" && ccx -i beamth20 >beamth20.ccx.log 2>&1) || bad "ccx heat: ccx failed on beamth20"
+expect "ccx heat: beamth20.inp (transient) runs" 0 "" -- run "$hd_/beamth20.inp" --quiet
+hdat "the transient's temperatures at its three prints are ccx's to 1e-6" \
+  "$hd_/beamth20.out/beamth20.dat" "$hd_/beamth20.dat" 1e-6 --blocks 3
+ex_check "ccx heat: ... in ccx's 23 increments" "$hd_/beamth20.out/summary.json" 's["steps"] == 23'
+expect "ccx heat: beamth.inp runs as given" 0 "" -- run "$hd_/beamth.inp" --quiet
+hdat "beamth (C3D20R) against its .dat.ref to 2e-3 (reduced against full integration)" \
+  "$hd_/beamth.out/beamth.dat" "$(ref beamth)" 2e-3 --blocks 3
+# Coupled temperature-displacement: beamhtbo's beam as C3D20 with a constant conductivity, an
+# elastic material that expands, held at its cool end; steady and transient (0.5 in 20 s,
+# automatic increments). hencky solves the heat step and then the stresses it causes, ccx both
+# together: without heat made by deformation the answers are the same, U and NT to their printed
+# digits, S at the 27 points of every element to 1.6e-5 of the block's largest: a stress here is
+# the small difference of E·ε and E·α·ΔT (about 200 against the largest stress, 7.2), and the
+# two codes' sums of the temperatures at the points differ in their last bits (the same deck as a
+# *STATIC step with the printed temperatures shows the same 6.3e-6 between the two codes).
+awk '/^\*MATERIAL/ {print "*MATERIAL,NAME=EL\n*ELASTIC\n210000.,.3\n*EXPANSION\n12.E-6\n*CONDUCTIVITY\n50.\n*DENSITY\n7.8E-9\n*SPECIFIC HEAT\n4.6E8"; skip=1; next}
+     skip && /^\*SOLID SECTION/ {skip=0}
+     skip {next}
+     /^\*STEP/ {exit}
+     {sub(/TYPE=C3D20R/, "TYPE=C3D20"); sub(/^Nall,0\.$/, "Nall,20."); print}' "$hd_/beamhtbo.inp" >"$hd_/beam-coupled.model"
+for kind in steady transient; do
+  { cat "$hd_/beam-coupled.model"
+    if [ "$kind" = steady ]; then printf '*STEP\n*COUPLED TEMPERATURE-DISPLACEMENT,STEADY STATE\n1.,1.\n'
+    else printf '*STEP\n*COUPLED TEMPERATURE-DISPLACEMENT\n0.5,20.\n'; fi
+    printf '*BOUNDARY\nCN7,1,3\nGIBO,11,11,100.\nCN7,11,11,20.\n*NODE PRINT,NSET=Nall\nU,NT\n*EL PRINT,ELSET=Eall\nS\n*END STEP\n'
+  } >"$hd_/coupled-$kind.inp"
+  (cd "$hd_" && ccx -i "coupled-$kind" >"coupled-$kind.ccx.log" 2>&1) || bad "ccx heat: ccx failed on coupled-$kind"
+  expect "ccx heat: coupled-$kind.inp runs" 0 "" -- run "$hd_/coupled-$kind.inp" --quiet
+  hdat "coupled, $kind: U, NT and S at the points are ccx's to 3e-5 in every increment" \
+    "$hd_/coupled-$kind.out/coupled-$kind.dat" "$hd_/coupled-$kind.dat" 3e-5
+done
+# What a deck's heat transfer may not ask is refused by name: initial temperatures that differ
+# between nodes, and steady and transient steps in one deck.
+sed -e 's/^Nall,20\.$/Nall,20.\n1,30./' "$hd_/coupled-steady.inp" >"$hd_/refused-initial.inp"
+expect "ccx heat: initial temperatures that differ are refused" 1 \
+  "refused-initial.inp:[0-9]+: \*INITIAL CONDITIONS: initial temperatures from 30 to 20" -- \
+  check "$hd_/refused-initial.inp"
+{ cat "$hd_/coupled-steady.inp"
+  printf '*STEP\n*COUPLED TEMPERATURE-DISPLACEMENT\n0.5,1.\n*END STEP\n'
+} >"$hd_/refused-mix.inp"
+expect "ccx heat: steady and transient steps in one deck are refused" 1 \
+  "refused-mix.inp:[0-9]+: steady and transient heat steps in one deck" -- check "$hd_/refused-mix.inp"
