@@ -104,10 +104,17 @@ Restart restart_memory(const Model& model, const fs::path& dir, std::optional<do
     auto it = std::find_if(entries.begin(), entries.end(), [&](const CheckpointEntry& e) {
       return std::abs(e.time - *from) <= eps;
     });
+    // Else the one time that the list below shows as the value given (its 6 digits): what the
+    // message offers can be typed back.
+    const auto shown = [](double t) { return fmt::format("{:g}", t); };
+    if (it == entries.end() &&
+        std::count_if(entries.begin(), entries.end(),
+                      [&](const CheckpointEntry& e) { return shown(e.time) == shown(*from); }) == 1)
+      it = std::find_if(entries.begin(), entries.end(),
+                        [&](const CheckpointEntry& e) { return shown(e.time) == shown(*from); });
     if (it == entries.end()) {
       std::string times;
-      for (const auto& e : entries)
-        times += (times.empty() ? "" : ", ") + fmt::format("{:g}", e.time);
+      for (const auto& e : entries) times += (times.empty() ? "" : ", ") + shown(e.time);
       throw InputError(SourceLocation{"", 0, 0, "--from"},
                        fmt::format("{} has no checkpoint at t = {:g}; it has checkpoints at t = {}",
                                    dir.string(), *from, times));

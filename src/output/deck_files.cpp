@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 
 #include "fem/reference_element.hpp"
 #include "output/frd_writer.hpp"
@@ -159,6 +161,45 @@ DeckFiles::DeckFiles(const Model& model, const fs::path& dir) : model_(model) {
 
 DeckFiles::~DeckFiles() = default;
 
+void DeckFiles::count_increment(double t) {
+  // The requests of one deck step share its span.
+  for (const DeckRequest& q : model_.spec().output.deck_requests)
+    if (t > q.start && t <= q.end + 1e-9 * std::max(1.0, std::abs(q.end))) {
+      if (q.start != step_start_) {
+        step_start_ = q.start;
+        increment_ = 0;
+      }
+      ++increment_;
+      return;
+    }
+}
+
+void DeckFiles::continue_from(const fs::path& old, double t, const std::vector<double>& earlier) {
+  for (double e : earlier) count_increment(e);
+  const double slack = 1e-6 * std::max(1.0, std::abs(t));  // the .dat's 7 digits
+  const std::string& dat = model_.spec().output.deck_dat;
+  if (dat_.is_open()) {
+    // Every block up to the first one after t ("... for set NALL and time  0.1000000E+02").
+    // A block starts with an empty line, which goes with it.
+    std::ifstream in(old / dat);
+    std::string line;
+    int empty = 0;  // empty lines read and not written yet
+    while (std::getline(in, line)) {
+      if (line.empty()) {
+        ++empty;
+        continue;
+      }
+      const auto at = line.find(" and time ");
+      if (at != std::string::npos && std::strtod(line.c_str() + at + 10, nullptr) > t + slack)
+        break;
+      for (; empty > 0; --empty) dat_ << '\n';
+      dat_ << line << '\n';
+    }
+    dat_.flush();
+  }
+  if (frd_) frd_steps_ = frd_->adopt(old / model_.spec().output.deck_frd, t);
+}
+
 bool DeckFiles::due(const DeckRequest& q, double t, int increment) const {
   const double slack = 1e-9 * std::max(1.0, std::abs(q.end));
   if (!(t > q.start + slack && t <= q.end + slack) || q.frequency <= 0) return false;
@@ -260,16 +301,7 @@ void DeckFiles::step_done(const StepReport& report, const State& state,
                           const RecoveredFields& fields) {
   const double t = report.time;
   const auto& requests = model_.spec().output.deck_requests;
-  // The increment's count in its deck step (the requests of one deck step share its span).
-  for (const DeckRequest& q : requests)
-    if (t > q.start && t <= q.end + 1e-9 * std::max(1.0, std::abs(q.end))) {
-      if (q.start != step_start_) {
-        step_start_ = q.start;
-        increment_ = 0;
-      }
-      ++increment_;
-      break;
-    }
+  count_increment(t);
   std::vector<FrdField> frd;
   for (std::size_t i = 0; i < requests.size(); ++i) {
     const DeckRequest& q = requests[i];

@@ -25,8 +25,15 @@ class DeckFiles {
   ~DeckFiles();
   /// The blocks of the requests that ask for this converged step.
   void step_done(const StepReport& report, const State& state, const RecoveredFields& fields);
+  /// A restart at time `t` of a run whose outputs are in `old` and whose converged steps ended
+  /// at `earlier` (up to t): its MODEL.dat blocks and MODEL.frd sets up to t are copied, and the
+  /// increments of the deck step counted on from them (what the print frequencies need).
+  void continue_from(const std::filesystem::path& old, double t,
+                     const std::vector<double>& earlier);
 
  private:
+  /// Counts the increment ending at t in its deck step (step_start_, increment_).
+  void count_increment(double t);
   /// Whether request q asks for the step ending at t (the increment's count in its deck step).
   bool due(const DeckRequest& q, double t, int increment) const;
   /// The blocks of variable `variable` of request `index` (of OutputSpec::deck_requests).

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <fstream>
 #include <iterator>
 #include <numeric>
 #include <stdexcept>
@@ -320,6 +322,43 @@ FrdWriter::~FrdWriter() {
   } catch (...) {
     // A destructor must not throw; a caller that wants to know calls close().
   }
+}
+
+int FrdWriter::adopt(const std::filesystem::path& old, double up_to) {
+  std::ifstream in(old);
+  std::string line, block, s;
+  bool in_results = false, keep = false;
+  int last_set = 0;
+  const double slack = 1e-6 * std::max(1.0, std::abs(up_to));  // the time's printed digits
+  auto end_block = [&] {
+    if (keep) s += block;
+    block.clear();
+  };
+  while (std::getline(in, line)) {
+    if (line.rfind("    1PSTEP", 0) == 0) {  // a block's parameter record
+      end_block();
+      in_results = true;
+      keep = false;
+    } else if (!in_results) {
+      continue;  // the header and the mesh: this writer wrote its own
+    } else if (line.rfind(" 9999", 0) == 0) {
+      break;
+    } else if (line.rfind("  100CL", 0) == 0 && line.size() >= 24) {
+      // "  100CL" and the set's 100 + k in five columns, then the time in twelve.
+      const double t = std::strtod(line.substr(12, 12).c_str(), nullptr);
+      keep = t <= up_to + slack;
+      if (keep) {
+        last_set = std::atoi(line.substr(7, 5).c_str()) - 100;
+        ++blocks_;
+      }
+    }
+    block += line;
+    block += '\n';
+  }
+  end_block();
+  flush(s);
+  sets_ = std::max(sets_, last_set);
+  return sets_;
 }
 
 void FrdWriter::flush(std::string& text) {

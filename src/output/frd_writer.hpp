@@ -82,6 +82,10 @@ class FrdWriter {
   /// std::invalid_argument on a field of the wrong size or a name too long for its columns,
   /// OutputError if the file cannot be written.
   void step(int step, double time, const std::vector<FrdField>& fields);
+  /// A restart: the result sets of the .frd `old` (written by this writer for the same mesh)
+  /// up to time `up_to`, copied as they are, the counts continued from them. Returns the number
+  /// of sets copied; a file that cannot be read copies none.
+  int adopt(const std::filesystem::path& old, double up_to);
   /// The closing line (9999); also done by the destructor if not called. Throws OutputError if
   /// the file cannot be written (the destructor does not throw).
   void close();

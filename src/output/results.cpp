@@ -496,17 +496,21 @@ int step_of_file(const std::string& name) {
 std::vector<CheckpointEntry> ResultWriter::continue_from(
     const fs::path& old, int steps, const std::vector<CheckpointEntry>& checkpoints) {
   // history.csv: the rows up to the restart's step, when the columns are the same.
+  std::vector<double> times;  // of the converged steps up to the restart's
   {
     std::ifstream in(old / "history.csv");
     std::string line;
     if (in && std::getline(in, line)) {
-      if (line + '\n' == header_) {
-        while (std::getline(in, line)) {
-          if (line.empty()) continue;
-          int step = 0;
-          if (std::sscanf(line.c_str(), "%d,", &step) == 1 && step <= steps)
-            history_ << line << '\n';
-        }
+      const bool same = line + '\n' == header_;
+      while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        int step = 0;
+        double time = 0;
+        if (std::sscanf(line.c_str(), "%d,%lf", &step, &time) != 2 || step > steps) continue;
+        times.push_back(time);
+        if (same) history_ << line << '\n';
+      }
+      if (same) {
         history_.flush();
       } else {
         link_or_copy(old / "history.csv", work_dir_ / "history-before-restart.csv");
@@ -516,6 +520,8 @@ std::vector<CheckpointEntry> ResultWriter::continue_from(
       }
     }
   }
+  // A deck's MODEL.dat and MODEL.frd up to the restart, its print frequencies counted on.
+  if (deck_files_ && !times.empty()) deck_files_->continue_from(old, times.back(), times);
   // The fields' files and the series: the entries of results.pvd up to the restart's step.
   {
     std::ifstream in(old / "results.pvd");

@@ -122,6 +122,15 @@ peer beampiso-frequency 1e-6 "the frequency carried into step 2, PEEQ and S of a
 grep -c "^ displacements" "$cd_/beampiso-frequency.out/beampiso-frequency.dat" | grep -qx 3 &&
   ok "ccx decks: ... 3 displacement blocks of the 6 increments" ||
   bad "ccx decks: the frequency did not leave 3 displacement blocks"
+# Restarted from t = 0.75 (step 1's third increment, not printed): the .dat is the uninterrupted
+# run's, its blocks up to the restart copied and the frequency counted on over both steps.
+expect "ccx decks: beampiso-frequency restarted from t = 0.75" 0 "" -- \
+  run "$cd_/beampiso-frequency.inp" --restart "$cd_/beampiso-frequency.out" --from 0.75 \
+  -o "$cd_/beampiso-restart.out" --quiet
+cmp -s "$cd_/beampiso-restart.out/beampiso-frequency.dat" "$cd_/beampiso-frequency.out/beampiso-frequency.dat" &&
+  ok "ccx decks: ... its .dat is the uninterrupted run's" ||
+  bad "ccx decks: the restarted run's .dat differs from the uninterrupted run's" \
+    "$(diff "$cd_/beampiso-restart.out/beampiso-frequency.dat" "$cd_/beampiso-frequency.out/beampiso-frequency.dat" | head -5)"
 # `hencky ccx -i JOB`, as a front end calls ccx: JOB.dat beside the deck, in the working folder.
 mkdir -p "$cd_/job" && cp "$cd_/beam10p.inp" "$cd_/job/"
 expect_cmd "ccx decks: hencky ccx -i beam10p runs in the deck's folder" 0 "" -- \

@@ -44,6 +44,22 @@ expect "ccx heat: beamth20.inp (transient) runs" 0 "" -- run "$hd_/beamth20.inp"
 hdat "the transient's temperatures at its three prints are ccx's to 1e-6" \
   "$hd_/beamth20.out/beamth20.dat" "$hd_/beamth20.dat" 1e-6 --blocks 3
 ex_check "ccx heat: ... in ccx's 23 increments" "$hd_/beamth20.out/summary.json" 's["steps"] == 23'
+# The temperatures in MODEL.frd as well (*NODE FILE NT every 10th increment): ccx's NDTEMP.
+sed -e 's/^\*NODE PRINT,NSET=Nall,FREQUENCY=10$/*NODE FILE,FREQUENCY=10\nNT\n&/' "$hd_/beamth20.inp" >"$hd_/beamth-frd.inp"
+(cd "$hd_" && ccx -i beamth-frd >beamth-frd.ccx.log 2>&1) || bad "ccx heat: ccx failed on beamth-frd"
+expect "ccx heat: beamth-frd.inp runs" 0 "" -- run "$hd_/beamth-frd.inp" --quiet
+out="$("$ex_py" "$src/tests/tools/frd_compare.py" "$hd_/beamth-frd.out/beamth-frd.frd" "$hd_/beamth-frd.frd" 1e-6 NDTEMP 2>&1)" &&
+  grep -c "^NDTEMP block" <<<"$out" | grep -qx 3 &&
+  ok "ccx heat: ... its .frd holds ccx's NDTEMP at the same 3 increments" || bad "ccx heat: the .frd's NDTEMP" "$out"
+# A restart from the 15th increment (t = 0.582859, as the checkpoints' list shows it) writes
+# the same MODEL.dat and MODEL.frd as the run that was not stopped: the blocks before the
+# restart copied, the print frequency counted on (the next print is the 20th increment).
+expect "ccx heat: a restart of the deck run from t = 0.582859" 0 "" -- \
+  run "$hd_/beamth-frd.inp" --restart "$hd_/beamth-frd.out" --from 0.582859 -o "$hd_/restart.out" --quiet
+cmp -s "$hd_/restart.out/beamth-frd.dat" "$hd_/beamth-frd.out/beamth-frd.dat" &&
+  diff <(grep -v UTIME "$hd_/restart.out/beamth-frd.frd") <(grep -v UTIME "$hd_/beamth-frd.out/beamth-frd.frd") >/dev/null &&
+  ok "ccx heat: ... its .dat and .frd are the uninterrupted run's (the .frd's time of writing aside)" ||
+  bad "ccx heat: the restarted run's .dat or .frd differ from the uninterrupted run's"
 expect "ccx heat: beamth.inp runs as given" 0 "" -- run "$hd_/beamth.inp" --quiet
 hdat "beamth (C3D20R) against its .dat.ref to 2e-3 (reduced against full integration)" \
   "$hd_/beamth.out/beamth.dat" "$(ref beamth)" 2e-3 --blocks 3
