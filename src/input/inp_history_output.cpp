@@ -14,18 +14,16 @@ namespace {
 
 /// The variables hencky writes for a kind of request.
 const std::vector<std::string>& written(DeckRequest::Kind kind) {
-  static const std::vector<std::string> node = {"U", "RF", "NT"}, element = {"S", "PEEQ"},
-                                        element_file = {"S", "E", "PEEQ"};
+  static const std::vector<std::string> node = {"U", "RF", "NT"}, element = {"S", "E", "PEEQ"};
   switch (kind) {
     case DeckRequest::Kind::node_print:
     case DeckRequest::Kind::node_file:
       return node;
     case DeckRequest::Kind::el_print:
-      return element;
     case DeckRequest::Kind::el_file:
       break;
   }
-  return element_file;
+  return element;
 }
 
 }  // namespace

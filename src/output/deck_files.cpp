@@ -271,24 +271,32 @@ void DeckFiles::element_block(std::size_t index, const std::string& variable, co
   const DeckRequest& q = model_.spec().output.deck_requests[index];
   const Mesh& mesh = model_.mesh();
   const std::string set = q.set.empty() ? std::string("EALL") : q.set;
-  const bool stress = variable == "S";
-  dat_ << (stress ? fmt::format("\n stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set "
-                                "{} and time {}\n\n",
-                                set, e14(t))
-                  : fmt::format("\n equivalent plastic strain (elem, integ.pnt.,pe)for set {} "
-                                "and time {}\n\n",
-                                set, e14(t)));
+  const bool stress = variable == "S", strain = variable == "E";
+  dat_ << (stress   ? fmt::format("\n stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set "
+                                    "{} and time {}\n\n",
+                                  set, e14(t))
+           : strain ? fmt::format("\n strains (elem, integ.pnt.,exx,eyy,ezz,exy,exz,eyz) for set "
+                                  "{} and time {}\n\n",
+                                  set, e14(t))
+                    : fmt::format("\n equivalent plastic strain (elem, integ.pnt.,pe)for set {} "
+                                  "and time {}\n\n",
+                                  set, e14(t)));
+  std::vector<Voigt> eps;
   for (int c : members_[index]) {
     if (!model_.holds_points(c)) continue;
     const std::vector<int>& order = point_order_[static_cast<std::size_t>(mesh.cells.type[c])];
     const int n = model_.point_offset(c + 1) - model_.point_offset(c);
+    if (strain) point_strains(model_, state, c, eps);
     for (int j = 0; j < n; ++j) {
-      const int p =
-          model_.point_offset(c) + (order.empty() ? j : order[static_cast<std::size_t>(j)]);
-      if (stress) {
-        const Voigt& s = state.stress[p];  // hencky's 11 22 33 23 31 12, ccx's xx yy zz xy xz yz
+      const int q = order.empty() ? j : order[static_cast<std::size_t>(j)];
+      const int p = model_.point_offset(c) + q;
+      if (stress || strain) {
+        // hencky's 11 22 33 23 31 12, ccx's xx yy zz xy xz yz; ccx's strains have the tensor
+        // shears, hencky's the engineering ones (twice those).
+        const Voigt s = stress ? state.stress[p] : eps[static_cast<std::size_t>(q)];
+        const double h = stress ? 1.0 : 0.5;
         dat_ << fmt::format("{:10d}{:4d} {} {} {} {} {} {}\n", mesh.cells.tag[c], j + 1, e13(s[0]),
-                            e13(s[1]), e13(s[2]), e13(s[5]), e13(s[4]), e13(s[3]));
+                            e13(s[1]), e13(s[2]), e13(h * s[5]), e13(h * s[4]), e13(h * s[3]));
       } else {
         dat_ << fmt::format("{:10d}{:4d} {}\n", mesh.cells.tag[c], j + 1,
                             e13(state.eps_p_eq.empty() ? 0.0 : state.eps_p_eq[p]));

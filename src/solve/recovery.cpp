@@ -181,6 +181,15 @@ void cell_means(const Mesh& mesh, const std::vector<double>& cells, RecoveredFie
 
 }  // namespace
 
+void point_strains(const Model& model, const State& state, int e, std::vector<Voigt>& strain) {
+  CellKinematics kin;
+  PointTensors at_point[max_cell_points];
+  point_tensors(model, state, e, kin, at_point);
+  const int n = reference_table(model.mesh().cells.type[e]).n_points;
+  strain.resize(static_cast<std::size_t>(n));
+  for (int q = 0; q < n; ++q) strain[static_cast<std::size_t>(q)] = at_point[q][1];
+}
+
 RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells) {
   const auto& mesh = model.mesh();
   const int n_nodes = mesh.n_nodes(), n_cells = mesh.cells.size();

@@ -37,4 +37,9 @@ struct RecoveredFields {
 /// (zero elsewhere).
 RecoveredFields recover_fields(const Model& model, const State& state, bool with_cells = true);
 
+/// The total strain ε at each integration point of cell `e` (this rank's), engineering shears,
+/// as the fields' `strain` takes it: sym ∇u on the undeformed mesh, under `geometry: updated`
+/// the sum ε^e + ε^p + ε^th of the objective increments. `strain` is resized to the points.
+void point_strains(const Model& model, const State& state, int e, std::vector<Voigt>& strain);
+
 }  // namespace hencky

@@ -80,6 +80,9 @@ peer beam10p-amplitude 1e-6 "the first step alone: the load at half its value by
 peer beam10p-history 1e-6 "an amplitude, OP=NEW and a prescribed displacement over two steps" dat
 ex_check "ccx decks: ... 2 steps of the deck, 2 of hencky (a linear step is solved once)" \
   "$cd_/beam10p-history.out/summary.json" 's["steps"] == 2 and s["title"] == "beam10p-history"'
+# E at the points: the total strain with ccx's tensor shears, in ccx's point order (C3D10).
+sed -e 's/^S$/S,E/' "$cd_/beam10p.inp" >"$cd_/beam10p-strain.inp"
+peer beam10p-strain 1e-6 "beam10p with E at the 4 points of each C3D10" dat
 # The output directory is MODEL.out beside the deck; -o moves it.
 [ -f "$cd_/beam10p.out/results.pvd" ] && ok "ccx decks: the outputs are in MODEL.out beside the deck" ||
   bad "ccx decks: no beam10p.out/results.pvd beside the deck"
@@ -116,9 +119,9 @@ datcmp "... NT, and RF with TOTALS=ONLY and YES, as ccx's .dat (6 blocks)" \
 sed -e 's/^\*STEP,NLGEOM/*STEP/' -e 's/C3D20R/C3D20 /' "$cd_/beampiso.inp" |
   awk '/^\*EL PRINT/ {getline; next}
        /^\*STATIC,DIRECT/ {n++; print; getline; print (n == 1 ? "0.25,1." : "0.5,1."); next}
-       /^\*NODE PRINT/ && !m {m = 1; print "*EL PRINT,ELSET=EALL\nPEEQ,S\n*NODE PRINT,NSET=NALL,FREQUENCY=2"; next}
+       /^\*NODE PRINT/ && !m {m = 1; print "*EL PRINT,ELSET=EALL\nPEEQ,S,E\n*NODE PRINT,NSET=NALL,FREQUENCY=2"; next}
        {print}' >"$cd_/beampiso-frequency.inp"
-peer beampiso-frequency 1e-6 "the frequency carried into step 2, PEEQ and S of a plastic C3D20" dat
+peer beampiso-frequency 1e-6 "the frequency carried into step 2, PEEQ, S and E of a plastic C3D20" dat
 grep -c "^ displacements" "$cd_/beampiso-frequency.out/beampiso-frequency.dat" | grep -qx 3 &&
   ok "ccx decks: ... 3 displacement blocks of the 6 increments" ||
   bad "ccx decks: the frequency did not leave 3 displacement blocks"
