@@ -130,6 +130,9 @@ class DeckCase final : public History {
   void build_temperature(InpReader& r);
   /// The heat section of a deck with heat transfer or coupled steps (inp_history_heat.cpp).
   void build_heat(InpReader& r);
+  /// Its boundary entries: the prescribed temperatures, fluxes, films and radiation, each
+  /// course's nodes (faces) a region.
+  void build_heat_boundary(InpReader& r);
   bool has_heat() const;
 
   Case& spec_;

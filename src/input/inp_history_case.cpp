@@ -117,11 +117,13 @@ void DeckCase::build_steps() {
   for (const DeckStep& s : steps_) {
     const double period = s.end - s.start;
     nlgeom = nlgeom || s.nlgeom;
-    if (s.transient() && !s.direct) {
-      // A transient's time discretization is its answer: the increments ccx takes when each
-      // converges at once (its automatic incrementation, User's Manual *CONTROLS): the first
-      // two of the initial size, then each 1.5 times the last, up to the largest increment,
-      // the last one cut at the step's end.
+    const bool heat =
+        s.procedure == DeckStep::Procedure::heat || s.procedure == DeckStep::Procedure::coupled;
+    if (heat && !s.direct) {
+      // A transient's time discretization is its answer, and ccx prints a steady step's
+      // increments too: the increments ccx takes when each converges at once (its automatic
+      // incrementation, User's Manual *CONTROLS): the first two of the initial size, then each
+      // 1.5 times the last, up to the largest increment, the last one cut at the step's end.
       double t = s.start, dt = s.increment;
       for (int k = 0; t < s.end; ++k) {
         too_many(1.0);
@@ -134,7 +136,7 @@ void DeckCase::build_steps() {
     }
     // Counted as a double first: a tiny increment must not overflow the cast.
     const double count =
-        linear && !s.transient() ? 1.0 : std::max(1.0, std::ceil(period / s.increment - 1e-9));
+        linear && !heat ? 1.0 : std::max(1.0, std::ceil(period / s.increment - 1e-9));
     too_many(count);
     const long n = static_cast<long>(count);
     for (long k = 1; k <= n; ++k)

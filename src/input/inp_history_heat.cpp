@@ -89,8 +89,7 @@ void DeckCase::face_heat(InpReader& r, const Keyword& k, int at, int first, int 
     }
   for (int l = first; l < end; ++l) {
     const auto f = r.data(l);
-    if (f.size() < (letter == 'S' ? 3u : 4u))
-      throw r.fail(l, std::string("a *") + k.name + " line is " + shape);
+    if (f.size() < 2) throw r.fail(l, std::string("a *") + k.name + " line is " + shape);
     const std::string type = upper(f[1]);
     int side = 0;
     if (type.size() == 2 && type[0] == letter && type[1] >= '1' && type[1] <= '6') {
@@ -102,6 +101,8 @@ void DeckCase::face_heat(InpReader& r, const Keyword& k, int at, int first, int 
                          k.name, type, letter, letter, letter));
       continue;
     }
+    if (f.size() < (letter == 'S' ? 3u : 4u))
+      throw r.fail(l, std::string("a *") + k.name + " line is " + shape);
     const double a = r.real(f[2], l, letter == 'S' ? "flux" : "sink temperature");
     const double b =
         letter == 'S' ? 0.0 : r.real(f[3], l, letter == 'F' ? "film coefficient" : "emissivity");
@@ -216,6 +217,11 @@ void DeckCase::build_heat(InpReader& r) {
   ts.from_heat = true;
   ts.reference = T0;
   ts.where = ts.reference_where = ts.field_where = h.where;
+  build_heat_boundary(r);
+}
+
+void DeckCase::build_heat_boundary(InpReader& r) {
+  HeatSpec& h = spec_.heat;
   // Prescribed temperatures: the nodes of one course form a region.
   std::map<std::string, std::pair<std::vector<long>, int>> fixed;
   for (auto& [n, c] : fixed_temperature_) {

@@ -87,6 +87,71 @@ for kind in steady transient; do
   hdat "coupled, $kind: U, NT and S at the points are ccx's to 3e-5 in every increment" \
     "$hd_/coupled-$kind.out/coupled-$kind.dat" "$hd_/coupled-$kind.dat" 3e-5
 done
+# A flux through one face of a steel cube held at 200° on its bottom (C3D8, transient to 5 s in
+# ccx's increments with a largest one of 2): as *HEAT TRANSFER, ccx's temperatures in every
+# increment; as *COUPLED TEMPERATURE-DISPLACEMENT with α = 0 as well; with α = 1.2e-5 ccx's
+# coupled step conducts the heat in the deformed cube, and its temperatures move by 0.45 % of
+# the differences (3.75e-5 of the range; docs/ccx-decks.md).
+cat >"$hd_/cube.model" <<'DECK'
+*NODE, NSET=NALL
+1, 0, 0, 0
+2, 1, 0, 0
+3, 1, 1, 0
+4, 0, 1, 0
+5, 0, 0, 1
+6, 1, 0, 1
+7, 1, 1, 1
+8, 0, 1, 1
+*ELEMENT, TYPE=C3D8, ELSET=EALL
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*NSET, NSET=BOTTOM
+1, 2, 3, 4
+*MATERIAL, NAME=STEEL
+*ELASTIC
+210000., .3
+*EXPANSION
+ALPHA
+*CONDUCTIVITY
+50.
+*DENSITY
+7.8E-9
+*SPECIFIC HEAT
+4.6E8
+*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL
+*INITIAL CONDITIONS, TYPE=TEMPERATURE
+NALL, 20.
+*STEP
+DECK
+for v in "heat 0 0" "coupled 0 0" "coupled 1.2E-5 3.75e-5"; do
+  set -- $v
+  { sed "s/^ALPHA$/$2/" "$hd_/cube.model"
+    if [ "$1" = heat ]; then printf '*HEAT TRANSFER
+0.5, 5., , 2.
+*BOUNDARY
+'
+    else printf '*COUPLED TEMPERATURE-DISPLACEMENT
+0.5, 5., , 2.
+*BOUNDARY
+BOTTOM, 1, 3
+'; fi
+    printf 'BOTTOM, 11, 11, 200.
+*DFLUX
+1, S4, -100.
+*NODE PRINT, NSET=NALL
+NT
+*END STEP
+'
+  } >"$hd_/cube-$1-$2.inp"
+  (cd "$hd_" && ccx -i "cube-$1-$2" >"cube-$1-$2.ccx.log" 2>&1) || bad "ccx heat: ccx failed on cube-$1-$2"
+  expect "ccx heat: cube-$1-$2.inp runs" 0 "" -- run "$hd_/cube-$1-$2.inp" --quiet
+  # Bound 1: every block of ccx's there (the same 6 increments), the largest difference judged here.
+  out="$("$ex_py" "$src/tests/tools/dat_compare.py" "$hd_/cube-$1-$2.out/cube-$1-$2.dat" "$hd_/cube-$1-$2.dat" 1 2>&1)" &&
+    worst="$(grep -o 'largest difference [0-9.e+-]*' <<<"$out" | awk '{print $3}' | sort -g | tail -1)" &&
+    [ "$(grep -c '^temperatures' <<<"$out")" -eq 6 ] &&
+    awk -v w="$worst" -v e="$3" 'BEGIN {exit !(w != "" && (e == 0 ? w == 0 : w > 0.5 * e && w < 2 * e))}' &&
+    ok "ccx heat: ... its temperatures in the 6 increments differ from ccx's by $worst (expected $3)" ||
+    bad "ccx heat: cube-$1-$2's temperatures differ from ccx's by '$worst', expected $3" "$out"
+done
 # What a deck's heat transfer may not ask is refused by name: initial temperatures that differ
 # between nodes, and steady and transient steps in one deck.
 sed -e 's/^Nall,20\.$/Nall,20.\n1,30./' "$hd_/coupled-steady.inp" >"$hd_/refused-initial.inp"
