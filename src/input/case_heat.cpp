@@ -18,6 +18,8 @@ const char* to_string(HeatBoundarySpec::Kind kind) {
       return "convection";
     case HeatBoundarySpec::Kind::radiation:
       return "radiation";
+    case HeatBoundarySpec::Kind::nodal_flux:
+      return "nodal_flux";
   }
   return "?";
 }
@@ -32,9 +34,10 @@ const std::vector<std::string> heat_keys = {
     "steps",     "times",          "tolerance",     "max_iterations",  "absolute_zero",
     "stefan_boltzmann"};
 // clang-format on
-const std::vector<std::string> heat_boundary_keys = {"region", "temperature", "flux", "convection",
-                                                     "radiation"};
-const std::vector<std::string> heat_conditions = {"temperature", "flux", "convection", "radiation"};
+const std::vector<std::string> heat_boundary_keys = {"region",     "temperature", "flux",
+                                                     "convection", "radiation",   "nodal_flux"};
+const std::vector<std::string> heat_conditions = {"temperature", "flux", "convection", "radiation",
+                                                  "nodal_flux"};
 const std::vector<std::string> convection_keys = {"h", "ambient"};
 const std::vector<std::string> radiation_keys = {"emissivity", "ambient"};
 const std::vector<std::string> analyses = {"steady", "transient"};
@@ -60,7 +63,7 @@ void check_constant_range(const Reader& r, const Val& v, const Expression& e, do
 
 HeatBoundarySpec read_heat_condition(const Reader& r, const Val& item) {
   Map m(r, item, heat_boundary_keys,
-        "a condition {region: ..., temperature|flux|convection|radiation: ...}");
+        "a condition {region: ..., temperature|flux|convection|radiation|nodal_flux: ...}");
   HeatBoundarySpec b;
   const Val region = m.require(r, "region", "the Gmsh physical group the condition acts on");
   if (region.node.IsSequence())
@@ -73,16 +76,17 @@ HeatBoundarySpec read_heat_condition(const Reader& r, const Val& item) {
   if (given.empty())
     r.fail(item, "heat boundary entry for region '" + b.region +
                      "' has no condition: expected one of 'temperature', 'flux', 'convection', "
-                     "'radiation'");
+                     "'radiation', 'nodal_flux'");
   if (given.size() > 1)
     throw InputError(r.at(m.key_mark(given[1]), child_path(item.path, given[1])),
                      "a heat boundary entry has one condition, found both '" + given[0] +
                          "' and '" + given[1] + "'; write another entry for the same region");
   const Val c = *m.get(given[0]);
   b.value_where = r.at(c);
-  if (given[0] == "temperature" || given[0] == "flux") {
+  if (given[0] == "temperature" || given[0] == "flux" || given[0] == "nodal_flux") {
     b.kind = given[0] == "temperature" ? HeatBoundarySpec::Kind::temperature
-                                       : HeatBoundarySpec::Kind::flux;
+             : given[0] == "flux"      ? HeatBoundarySpec::Kind::flux
+                                       : HeatBoundarySpec::Kind::nodal_flux;
     b.value = r.expression(c);
     return b;
   }
@@ -211,7 +215,8 @@ void check_heat(const Case& c) {
                      "with 'from: heat' in place of 'field'");
   const auto& bcs = c.heat.boundary;
   if (!c.heat.transient && std::none_of(bcs.begin(), bcs.end(), [](const HeatBoundarySpec& b) {
-        return b.kind != HeatBoundarySpec::Kind::flux;
+        return b.kind != HeatBoundarySpec::Kind::flux &&
+               b.kind != HeatBoundarySpec::Kind::nodal_flux;
       }))
     throw InputError(
         SourceLocation{c.heat.where.file, c.heat.where.line, c.heat.where.column, "heat.boundary"},

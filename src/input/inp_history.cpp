@@ -87,10 +87,7 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
                   "*RESTART, READ: hencky continues a run with --restart DIR, not from "
                   "ccx's restart file");
   if (is_harmless(n)) return note(r, at, "*" + n + " has no meaning for hencky: left out");
-  if (n == "CFLUX")
-    return refuse(r, at,
-                  "*CFLUX: hencky's heat analysis has no heat flow into single nodes (a flux "
-                  "over faces is *DFLUX)");
+  if (n == "CFLUX") return cflux(r, k, at, first, end);
   refuse(r, at, "*" + n + ": not a keyword hencky can honour");
 }
 

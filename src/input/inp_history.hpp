@@ -102,6 +102,8 @@ class DeckCase final : public History {
   void physical_constants(InpReader& r, const Keyword& k, int at);
   /// *FILM, *RADIATE, *DFLUX: conditions on element faces.
   void face_heat(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// *CFLUX: a heat flow into each node named.
+  void cflux(InpReader& r, const Keyword& k, int at, int first, int end);
   void output_request(InpReader& r, const Keyword& k, int at, int first, int end);
   /// The course of a condition, with a slot for the current step.
   Course::InStep& in_step(Course& c);
@@ -133,6 +135,17 @@ class DeckCase final : public History {
   /// Its boundary entries: the prescribed temperatures, fluxes, films and radiation, each
   /// course's nodes (faces) a region.
   void build_heat_boundary(InpReader& r);
+  /// Nodes (faces) by the expressions of their condition, (value, ambient), with the line
+  /// the group's first was given on: each group becomes one region.
+  template <class Key>
+  using Groups = std::map<std::array<std::string, 2>, std::pair<std::vector<Key>, int>>;
+  /// The courses that are not 0 throughout, grouped by their expression.
+  template <class Key>
+  Groups<Key> group_courses(std::map<Key, Course>& courses);
+  /// One heat.boundary entry of `kind` per group, its region named STEM-1, STEM-2, ...
+  template <class Key>
+  void add_heat_entries(InpReader& r, HeatBoundarySpec::Kind kind, const char* stem,
+                        const Groups<Key>& groups);
   bool has_heat() const;
 
   Case& spec_;
@@ -158,10 +171,11 @@ class DeckCase final : public History {
   std::map<NodeDof, Course> displacement_, cload_;
   std::map<ElementFace, Course> pressure_;
   std::map<long, Course> temperature_;
-  /// Heat transfer: prescribed temperatures (*BOUNDARY on degree of freedom 11) per node;
+  /// Heat transfer: prescribed temperatures (*BOUNDARY on degree of freedom 11) and heat flows
+  /// (*CFLUX) per node;
   /// per face, a flux (*DFLUX), a film (*FILM: h and the sink temperature) and radiation
   /// (*RADIATE: the emissivity and the sink temperature).
-  std::map<long, Course> fixed_temperature_;
+  std::map<long, Course> fixed_temperature_, cflux_;
   std::map<ElementFace, Course> flux_;
   std::map<ElementFace, std::array<Course, 2>> film_, radiate_;
   std::optional<double> absolute_zero_, stefan_boltzmann_;

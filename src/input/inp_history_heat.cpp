@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "input/inp_history.hpp"
 #include "input/inp_reader.hpp"
@@ -123,6 +124,27 @@ void DeckCase::face_heat(InpReader& r, const Keyword& k, int at, int first, int 
   }
 }
 
+void DeckCase::cflux(InpReader& r, const Keyword& k, int at, int first, int end) {
+  bool op_new = false;
+  const int amp = condition_options(r, k, at, op_new, {});
+  if (!in_step_) throw r.fail(at, "*CFLUX outside a *STEP");
+  if (op_new) remove_unnamed(cflux_, at, true);
+  for (int l = first; l < end; ++l) {
+    const auto f = r.data(l);
+    if (f.size() < 3) throw r.fail(l, "a *CFLUX line is 'node or NSET, 11, heat flow'");
+    // The temperature's degree of freedom, 11 (ccx's own test decks write 0 for it).
+    if (trim(f[1]) != "11" && trim(f[1]) != "0") {
+      refuse(r, l,
+             fmt::format("*CFLUX on degree of freedom {}: a heat flow is on the "
+                         "temperature, 11",
+                         f[1]));
+      continue;
+    }
+    const double q = r.real(f[2], l, "heat flow");
+    for (long n : r.node_targets(f[0], l)) in_step(cflux_[n]) = {true, true, q, amp, l};
+  }
+}
+
 bool DeckCase::has_heat() const {
   return std::any_of(steps_.begin(), steps_.end(), [](const DeckStep& s) {
     return s.procedure == DeckStep::Procedure::heat || s.procedure == DeckStep::Procedure::coupled;
@@ -144,6 +166,10 @@ void DeckCase::build_heat(InpReader& r) {
     if (!flux_.empty())
       return refuse(r, flux_.begin()->second.step.front().line,
                     "*DFLUX in a deck without *HEAT TRANSFER or *COUPLED "
+                    "TEMPERATURE-DISPLACEMENT steps");
+    if (!cflux_.empty())
+      return refuse(r, cflux_.begin()->second.step.front().line,
+                    "*CFLUX in a deck without *HEAT TRANSFER or *COUPLED "
                     "TEMPERATURE-DISPLACEMENT steps");
     return;
   }
@@ -218,12 +244,51 @@ void DeckCase::build_heat(InpReader& r) {
   ts.reference = T0;
   ts.where = ts.reference_where = ts.field_where = h.where;
   build_heat_boundary(r);
+  if (!h.transient && std::all_of(h.boundary.begin(), h.boundary.end(), [](const auto& b) {
+        return b.kind == HeatBoundarySpec::Kind::flux ||
+               b.kind == HeatBoundarySpec::Kind::nodal_flux;
+      }))
+    refuse(r, first.line,
+           "a steady heat step needs a temperature (*BOUNDARY on 11), *FILM or *RADIATE: with "
+           "heat fluxes alone the temperature is known only up to a constant");
+}
+
+template <class Key>
+DeckCase::Groups<Key> DeckCase::group_courses(std::map<Key, Course>& courses) {
+  Groups<Key> groups;
+  for (auto& [key, c] : courses) {
+    in_step(c);
+    const std::string e = expression(c);
+    if (e == "0") continue;
+    auto& g = groups[{e, ""}];
+    if (g.first.empty()) g.second = c.step.back().line;
+    g.first.push_back(key);
+  }
+  return groups;
+}
+
+template <class Key>
+void DeckCase::add_heat_entries(InpReader& r, HeatBoundarySpec::Kind kind, const char* stem,
+                                const Groups<Key>& groups) {
+  int k = 0;
+  for (const auto& [e, g] : groups) {
+    HeatBoundarySpec b;
+    b.region = r.unused_name(fmt::format("{}-{}", stem, ++k));
+    b.kind = kind;
+    b.where = b.value_where = r.where(g.second);
+    b.value = Expression::parse(e[0], b.where);
+    if (!e[1].empty()) b.ambient = Expression::parse(e[1], b.where);
+    if constexpr (std::is_same_v<Key, long>)
+      r.add_node_set(b.region, g.first, g.second);
+    else
+      r.add_face_surface(b.region, g.first, g.second);
+    spec_.heat.boundary.push_back(std::move(b));
+  }
 }
 
 void DeckCase::build_heat_boundary(InpReader& r) {
-  HeatSpec& h = spec_.heat;
-  // Prescribed temperatures: the nodes of one course form a region.
-  std::map<std::string, std::pair<std::vector<long>, int>> fixed;
+  // Prescribed temperatures, held from the start to the end.
+  Groups<long> fixed;
   for (auto& [n, c] : fixed_temperature_) {
     in_step(c);
     if (!c.step.front().set)
@@ -246,43 +311,17 @@ void DeckCase::build_heat_boundary(InpReader& r) {
       continue;
     }
     if (!c.step.front().set) continue;
-    auto& g = fixed[expression(c)];
+    auto& g = fixed[{expression(c), ""}];
     if (g.first.empty()) g.second = c.step.front().line;
     g.first.push_back(n);
   }
-  int k = 0;
-  for (const auto& [e, g] : fixed) {
-    HeatBoundarySpec b;
-    b.region = r.unused_name(fmt::format("TEMPERATURE-{}", ++k));
-    b.kind = HeatBoundarySpec::Kind::temperature;
-    b.where = b.value_where = r.where(g.second);
-    b.value = Expression::parse(e, b.where);
-    r.add_node_set(b.region, g.first, g.second);
-    h.boundary.push_back(std::move(b));
-  }
-  // Fluxes, films and radiation: the faces of one course form a surface.
-  std::map<std::string, std::pair<std::vector<ElementFace>, int>> fluxes;
-  for (auto& [face, c] : flux_) {
-    in_step(c);
-    const std::string e = expression(c);
-    if (e == "0") continue;
-    auto& g = fluxes[e];
-    if (g.first.empty()) g.second = c.step.back().line;
-    g.first.push_back(face);
-  }
-  k = 0;
-  for (const auto& [e, g] : fluxes) {
-    HeatBoundarySpec b;
-    b.region = r.unused_name(fmt::format("DFLUX-{}", ++k));
-    b.kind = HeatBoundarySpec::Kind::flux;
-    b.where = b.value_where = r.where(g.second);
-    b.value = Expression::parse(e, b.where);
-    r.add_face_surface(b.region, g.first, g.second);
-    h.boundary.push_back(std::move(b));
-  }
+  add_heat_entries(r, HeatBoundarySpec::Kind::temperature, "TEMPERATURE", fixed);
+  add_heat_entries(r, HeatBoundarySpec::Kind::nodal_flux, "CFLUX", group_courses(cflux_));
+  add_heat_entries(r, HeatBoundarySpec::Kind::flux, "DFLUX", group_courses(flux_));
+  // Films and radiation: by the coefficient's course and the sink temperature's.
   for (auto* faces : {&film_, &radiate_}) {
     const bool film = faces == &film_;
-    std::map<std::array<std::string, 2>, std::pair<std::vector<ElementFace>, int>> groups;
+    Groups<ElementFace> groups;
     for (auto& [face, c] : *faces) {
       in_step(c[0]);
       in_step(c[1]);
@@ -292,17 +331,9 @@ void DeckCase::build_heat_boundary(InpReader& r) {
       if (g.first.empty()) g.second = c[1].step.back().line;
       g.first.push_back(face);
     }
-    k = 0;
-    for (const auto& [e, g] : groups) {
-      HeatBoundarySpec b;
-      b.region = r.unused_name(fmt::format("{}-{}", film ? "FILM" : "RADIATE", ++k));
-      b.kind = film ? HeatBoundarySpec::Kind::convection : HeatBoundarySpec::Kind::radiation;
-      b.where = b.value_where = r.where(g.second);
-      b.value = Expression::parse(e[0], b.where);
-      b.ambient = Expression::parse(e[1], b.where);
-      r.add_face_surface(b.region, g.first, g.second);
-      h.boundary.push_back(std::move(b));
-    }
+    add_heat_entries(r,
+                     film ? HeatBoundarySpec::Kind::convection : HeatBoundarySpec::Kind::radiation,
+                     film ? "FILM" : "RADIATE", groups);
   }
 }
 

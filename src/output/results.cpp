@@ -19,6 +19,7 @@
 #include "contact/surface_type.hpp"
 #include "core/error.hpp"
 #include "output/tensor_order.hpp"
+#include "parallel/mpi.hpp"
 
 namespace hencky {
 namespace fs = std::filesystem;
@@ -160,7 +161,17 @@ ResultWriter::ResultWriter(const Model& model, fs::path final_dir, Log& log,
   history_.open(work_dir_ / "history.csv");
   if (!history_) cannot_write(final_dir_, work_dir_ / "history.csv", where);
   log_.attach_file((work_dir_ / "hencky.log").string());
-  if (!model_.spec().output.deck_requests.empty())
+  const OutputSpec& out = model_.spec().output;
+  if (!out.deck_requests.empty() && par::size() > 1)
+    // On several ranks the nodes and points are spread over them (a distributed mesh holds a
+    // part on each): the deck's files would hold root's share alone.
+    log_.warn(
+        fmt::format("{}{}{} written by a run on one MPI rank only; this run on {} ranks "
+                    "writes the fields, history.csv and summary.json",
+                    out.deck_dat.empty() ? "" : out.deck_dat + " is",
+                    !out.deck_dat.empty() && !out.deck_frd.empty() ? " and " : "",
+                    out.deck_frd.empty() ? "" : out.deck_frd + " is", par::size()));
+  else if (!out.deck_requests.empty())
     deck_files_ = std::make_unique<DeckFiles>(model_, work_dir_);
   std::ostringstream h;
   h << "step,time,iterations,residual";

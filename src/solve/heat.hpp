@@ -10,7 +10,8 @@
 //   R(T, t) = ∫ k(T) ∇N·∇T dV − ∫ Q(x, t, T) N dV − ∫ q_in(T, t) N dA
 // with H(T) = ∫ ρc dT the enthalpy per volume (so that the stored heat is exact for any ρ(T),
 // c(T)) and q_in the heat flux into the body of the flux, convection h (T∞ − T) and radiation
-// εσ ((T∞ − T_0)⁴ − (T − T_0)⁴) conditions (T_0 the absolute zero). Newton's matrix is dG/dT
+// εσ ((T∞ − T_0)⁴ − (T − T_0)⁴) conditions (T_0 the absolute zero); a nodal_flux condition's
+// heat flow goes into R at its nodes directly. Newton's matrix is dG/dT
 // without the term k'(T) N ∇T·∇N, which is not symmetric (the linear systems are), and without
 // the −dQ/dT N N of a source that grows with T (which would make it indefinite): this symmetric
 // part is factorized. Where those terms exist (k(T) a table, Q of T), the Newton step solves
@@ -125,6 +126,8 @@ class HeatSolver {
   /// Takes the next step (with cut-backs) toward `target`.
   void advance(double target);
   void natural_flows(const std::vector<double>& T, double t, std::vector<double>& q) const;
+  /// The heat flow into node `node` of nodal_flux entry `boundary` at time t (W).
+  double nodal_flow(int boundary, int node, double t) const;
   /// The snapshots' values at t (linear between the two that bracket it); T may be null.
   void interpolate(double t, std::vector<double>* T, std::vector<double>& flow,
                    std::vector<double>& energy) const;

@@ -217,6 +217,14 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
   // Every rank stops on an error one of them found: the one that found it says what.
   par::rethrow_anywhere(error, SourceLocation{model_.spec().file.string(), 0, 0, "heat"},
                         "the heat analysis met an input error on another MPI rank");
+  // The nodal flows (nodal_flux) at t1, each node's once over the ranks, whose vectors the sum
+  // below adds: by its owner on a distributed mesh, by root where every rank holds the whole.
+  if (model_.layout().kind() != NodalLayout::Kind::replicated || par::root())
+    for (const auto& [n, b] : model_.heat_nodal()) {
+      const double q = nodal_flow(b, n, t1);
+      R[n] -= q;
+      SR[n] += std::abs(q);
+    }
   model_.layout().sum_blocks(sums, 4);
   ev.R.assign(R, R + n_nodes);
   ev.SR.assign(SR, SR + n_nodes);
@@ -235,6 +243,12 @@ void HeatSolver::evaluate(const std::vector<double>& T, const HeatSnapshot& from
   }
 }
 
+double HeatSolver::nodal_flow(int boundary, int node, double t) const {
+  const Vec3& x = model_.mesh().x[node];
+  const HeatBoundarySpec& bc = spec_.boundary[boundary];
+  return bc.value.eval_checked(x.x(), x.y(), x.z(), t, "nodal_flux");
+}
+
 void HeatSolver::natural_flows(const std::vector<double>& T, double t,
                                std::vector<double>& q) const {
   const Mesh& mesh = model_.mesh();
@@ -251,6 +265,7 @@ void HeatSolver::natural_flows(const std::vector<double>& T, double t,
                         da;
     });
   }
+  for (const auto& [n, b] : model_.heat_nodal()) q[b] += nodal_flow(b, n, t);
   model_.layout().total(q);  // a distributed mesh's outer faces are each on one part
 }
 

@@ -78,6 +78,7 @@ FaceFlux face_flux(const HeatBoundarySpec& bc, const Expression& value, const Ex
       break;
     }
     case HeatBoundarySpec::Kind::temperature:
+    case HeatBoundarySpec::Kind::nodal_flux:  // not a face's (HeatSolver::nodal_flows)
       break;
   }
   return f;

@@ -188,6 +188,9 @@ class Model {
   /// heat_face_start(c + 1)).
   const std::vector<HeatFace>& heat_faces() const { return heat_.faces; }
   int heat_face_start(int cell) const { return heat_.face_start[cell]; }
+  /// The nodes of the nodal_flux entries, each with its entry (heat.boundary's index): this
+  /// rank's own nodes on a distributed mesh, every node otherwise.
+  const std::vector<std::pair<int, int>>& heat_nodal() const { return heat_.nodal; }
 
   /// Nodal temperature at time t (T_ref everywhere without a temperature section) of a field or
   /// a file; temperatures from a heat analysis are the HeatSolver's.
@@ -303,6 +306,7 @@ class Model {
     std::vector<int> fixed;
     std::vector<HeatFace> faces;
     std::vector<int> face_start;
+    std::vector<std::pair<int, int>> nodal;  ///< (node, boundary entry) of nodal_flux, own nodes
   };
   /// The temperature section bound to the mesh and the materials.
   struct Temperatures {

@@ -171,7 +171,8 @@ void Model::check_whole() const {
                      "no displacement condition: the body is free to move as a rigid body; "
                      "prescribe displacements on some region");
   for (const HeatBoundarySpec& bc : case_->heat.boundary) {
-    const bool nodes = bc.kind == HeatBoundarySpec::Kind::temperature;
+    const bool nodes = bc.kind == HeatBoundarySpec::Kind::temperature ||
+                       bc.kind == HeatBoundarySpec::Kind::nodal_flux;
     const Region& r =
         *mesh_.find_region(bc.region, nodes ? 0 : 2, nodes ? 3 : 2, region_names_ignore_case());
     if (nodes) {

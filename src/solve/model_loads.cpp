@@ -136,6 +136,15 @@ void Model::bind_heat() {
       for (int n : r.nodes) heat_.fixed[n] = static_cast<int>(b);
       continue;
     }
+    if (bc.kind == HeatBoundarySpec::Kind::nodal_flux) {  // each node's owner applies it
+      const Region& r = find_region(bc.region, bc.where, 0, 3, "region");
+      if (r.nodes.empty() && !dist_.part)
+        throw InputError(bc.where, fmt::format("region '{}' has no nodes", r.name));
+      const int owned = dist_.part ? dist_.part->owned_nodes : n_nodes;
+      for (int n : r.nodes)
+        if (n < owned) heat_.nodal.emplace_back(n, static_cast<int>(b));
+      continue;
+    }
     const Region& r = find_region(bc.region, bc.where, 2, 2, "physical surface");
     if (r.cells.empty() && !dist_.part)
       throw InputError(bc.where, fmt::format("region '{}' has no faces for the {} condition",

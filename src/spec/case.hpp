@@ -142,10 +142,11 @@ struct TemperatureSpec {
 
 /// One condition of heat.boundary: a region's faces (or, for a temperature, its nodes).
 struct HeatBoundarySpec {
-  enum class Kind { temperature, flux, convection, radiation };
+  enum class Kind { temperature, flux, convection, radiation, nodal_flux };
   std::string region;
   Kind kind = Kind::temperature;
   /// temperature: the prescribed temperature; flux: the heat flux into the body (W/m²);
+  /// nodal_flux: the heat flow into each node of the region (W; CalculiX's *CFLUX);
   /// convection: the film coefficient h (W/(m²·K)); radiation: the emissivity (0 .. 1). An
   /// expression of x, y, z, t.
   Expression value;

@@ -91,14 +91,14 @@ expect "ccx decks: check lists the regions the history made" 0 "BOUNDARY-1 \(0D\
 # What hencky cannot do is refused before solving: every keyword with its file and line, nothing
 # written.
 sed -e 's/^\*STEP$/*STEP\n*FREQUENCY\n10/' -e 's/^\*CLOAD$/*CLOAD,FOLLOWER/' "$cd_/beam10p.inp" >"$cd_/refused.inp"
-printf '*STEP\n*HEAT TRANSFER\n*CFLUX\n1,11,5.\n*END STEP\n' >>"$cd_/refused.inp"
+printf '*STEP\n*HEAT TRANSFER\n*CFLUX\n1,5,5.\n*END STEP\n' >>"$cd_/refused.inp"
 out="$("$bin" run "$cd_/refused.inp" --quiet 2>&1)"
 rc=$?
 [ "$rc" -eq 1 ] &&
   grep -Eq "^error: .*refused\.inp:[0-9]+: the deck asks for 4 things hencky cannot do; nothing was solved:$" <<<"$out" &&
   grep -Eq "^  refused\.inp:[0-9]+: \*FREQUENCY: " <<<"$out" &&
   grep -Eq "^  refused\.inp:[0-9]+: \*CLOAD, FOLLOWER: " <<<"$out" &&
-  grep -Eq "^  refused\.inp:[0-9]+: \*CFLUX: " <<<"$out" &&
+  grep -Eq "^  refused\.inp:[0-9]+: \*CFLUX on degree of freedom 5: " <<<"$out" &&
   grep -Eq "^  refused\.inp:[0-9]+: a deck that mixes \*STATIC, \*HEAT TRANSFER" <<<"$out" &&
   ok "ccx decks: a deck asking what hencky cannot do is refused (exit 1), each keyword with its line" ||
   bad "ccx decks: the refused deck's exit or message (exit $rc)" "$out"

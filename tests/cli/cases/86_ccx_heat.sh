@@ -12,7 +12,7 @@ if [ ! -f "$suite/beamth.inp.gz" ] || ! command -v ccx >/dev/null; then
 fi
 # The package keeps the small decks as they are and gzips the others.
 ref() { if [ -f "$suite/$1.dat.ref" ]; then echo "$suite/$1.dat.ref"; else echo "$suite/$1.dat.ref.gz"; fi; }
-for d in oneel20fi oneel8ra oneel20df beamth beamhtbo; do
+for d in oneel20fi oneel8ra oneel20df oneel20cf beamth beamhtbo; do
   if [ -f "$suite/$d.inp" ]; then cp "$suite/$d.inp" "$hd_/"; else zcat "$suite/$d.inp.gz" >"$hd_/$d.inp"; fi
 done
 hdat() {  # hdat WHAT A.dat B.dat BOUND [--blocks N]
@@ -22,10 +22,11 @@ hdat() {  # hdat WHAT A.dat B.dat BOUND [--blocks N]
 }
 # Steady heat transfer alone, every deck's NT against its .dat.ref (7 printed digits; the RFL
 # and HFL blocks are not written): a film on one face of a C3D20R cube (h = 10, sink -12), a
-# flux into one face (-100, *DFLUX), radiation from one face of a C3D8 (emissivity 1, sink -12,
-# *PHYSICAL CONSTANTS' absolute zero and Stefan-Boltzmann constant), and beamhtbo's
+# flux into one face (-100, *DFLUX), heat flows into single nodes (*CFLUX: 10 into each corner
+# of one face, -40 out of two others), radiation from one face of a C3D8 (emissivity 1, sink
+# -12, *PHYSICAL CONSTANTS' absolute zero and Stefan-Boltzmann constant), and beamhtbo's
 # conductivity that steps from 50 to 100 at 52 degrees (a table over temperature).
-for d in oneel20fi oneel20df oneel8ra beamhtbo; do
+for d in oneel20fi oneel20df oneel20cf oneel8ra beamhtbo; do
   expect "ccx heat: $d.inp runs as given" 0 "" -- run "$hd_/$d.inp" --quiet
   hdat "$d's temperatures are its .dat.ref's to 1e-6" "$hd_/$d.out/$d.dat" "$(ref "$d")" 1e-6 --blocks 1
 done
@@ -152,6 +153,45 @@ NT
     ok "ccx heat: ... its temperatures in the 6 increments differ from ccx's by $worst (expected $3)" ||
     bad "ccx heat: cube-$1-$2's temperatures differ from ccx's by '$worst', expected $3" "$out"
 done
+# heat.boundary's nodal_flux in case.yaml (the meaning of *CFLUX): 25 W into each corner of the
+# top of a unit cube (k = 50) held at 0 on its bottom is the consistent load of a uniform
+# 100 W/m²: the top reaches q L / k = 2 exactly, 100 W flows in, and the bottom takes it out.
+mkdir -p "$hd_/nodal"
+cat >"$hd_/nodal/cube.inp" <<'DECK'
+*NODE, NSET=NALL
+1, 0, 0, 0
+2, 1, 0, 0
+3, 1, 1, 0
+4, 0, 1, 0
+5, 0, 0, 1
+6, 1, 0, 1
+7, 1, 1, 1
+8, 0, 1, 1
+*ELEMENT, TYPE=C3D8, ELSET=EALL
+1, 1, 2, 3, 4, 5, 6, 7, 8
+*NSET, NSET=BOTTOM
+1, 2, 3, 4
+*NSET, NSET=TOP
+5, 6, 7, 8
+DECK
+cat >"$hd_/nodal/case.yaml" <<'YAML'
+mesh: {file: cube.inp}
+materials: [{E: 2.0e11, nu: 0.3, alpha: 0, conductivity: 50}]
+temperature: {reference: 0, from: heat}
+boundary:
+  - {region: BOTTOM, displacement: {x: 0, y: 0, z: 0}}
+heat:
+  boundary:
+    - {region: BOTTOM, temperature: 0}
+    - {region: TOP, nodal_flux: 25}
+output:
+  heat_flows: [TOP]
+  reactions: [BOTTOM]
+  probes: [{name: top, point: [0.5, 0.5, 1]}]
+YAML
+expect "ccx heat: nodal_flux on a cube's top runs" 0 "" -- run "$hd_/nodal/case.yaml" --quiet
+ex_check "ccx heat: ... its top is at q L / k = 2, 100 W flow in and out" "$hd_/nodal/case.out/history.csv" \
+  'close(h[-1]["top.temperature"], 2.0, 1e-12) and close(h[-1]["heat_flow.TOP"], 100.0, 1e-12) and close(h[-1]["reaction.BOTTOM.heat"], -100.0, 1e-12)'
 # What a deck's heat transfer may not ask is refused by name: initial temperatures that differ
 # between nodes, and steady and transient steps in one deck.
 sed -e 's/^Nall,20\.$/Nall,20.\n1,30./' "$hd_/coupled-steady.inp" >"$hd_/refused-initial.inp"
@@ -163,3 +203,19 @@ expect "ccx heat: initial temperatures that differ are refused" 1 \
 } >"$hd_/refused-mix.inp"
 expect "ccx heat: steady and transient steps in one deck are refused" 1 \
   "refused-mix.inp:[0-9]+: steady and transient heat steps in one deck" -- check "$hd_/refused-mix.inp"
+# A steady step with heat flows alone has no temperature level: refused, not left to a singular
+# matrix.
+sed -e 's/^GIBO,11,11,100\.$//' -e 's/^CN7,11,11,20\.$/*CFLUX\nGIBO,11,5./' "$hd_/coupled-steady.inp" >"$hd_/refused-level.inp"
+expect "ccx heat: a steady step with heat flows alone is refused" 1 \
+  "refused-level.inp:[0-9]+: a steady heat step needs a temperature \(\*BOUNDARY on 11\), \*FILM or \*RADIATE" -- \
+  check "$hd_/refused-level.inp"
+# On several MPI ranks the nodes and points are spread over the ranks: MODEL.dat and MODEL.frd
+# are not written (a warning says so), the other outputs are.
+if with_mpi; then
+  mpi_expect "ccx heat: on 2 ranks the deck runs, and says its .dat and .frd are not written" 0 \
+    "beamth-frd.dat is and beamth-frd.frd is written by a run on one MPI rank only" 2 -- \
+    run "$hd_/beamth-frd.inp" -o "$hd_/mpi.out"
+  [ -f "$hd_/mpi.out/results.pvd" ] && [ ! -e "$hd_/mpi.out/beamth-frd.dat" ] &&
+    ok "ccx heat: ... the fields are written, the .dat is not" ||
+    bad "ccx heat: on 2 ranks, the fields or the .dat are not as said"
+fi
