@@ -135,6 +135,8 @@ class DeckCase final : public History {
   /// Its boundary entries: the prescribed temperatures, fluxes, films and radiation, each
   /// course's nodes (faces) a region.
   void build_heat_boundary(InpReader& r);
+  /// Every material has a conductivity, and for a transient a density and a specific heat.
+  void check_heat_materials(InpReader& r, int step_line);
   /// Nodes (faces) by the expressions of their condition, (value, ambient), with the line
   /// the group's first was given on: each group becomes one region.
   template <class Key>

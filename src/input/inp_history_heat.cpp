@@ -145,6 +145,21 @@ void DeckCase::cflux(InpReader& r, const Keyword& k, int at, int first, int end)
   }
 }
 
+void DeckCase::check_heat_materials(InpReader& r, int step_line) {
+  for (const MaterialSpec& m : spec_.materials) {
+    const auto it = std::find_if(materials_.begin(), materials_.end(),
+                                 [&](const Material& d) { return d.spec.name == m.name; });
+    const int line = it != materials_.end() ? it->line : step_line;
+    if (m.conductivity.value.empty())
+      refuse(r, line,
+             fmt::format("material '{}' has no *CONDUCTIVITY (heat steps need it)", m.name));
+    if (spec_.heat.transient && (m.density.value.empty() || m.specific_heat.value.empty()))
+      refuse(r, line,
+             fmt::format("material '{}' needs *DENSITY and *SPECIFIC HEAT (transient heat steps)",
+                         m.name));
+  }
+}
+
 bool DeckCase::has_heat() const {
   return std::any_of(steps_.begin(), steps_.end(), [](const DeckStep& s) {
     return s.procedure == DeckStep::Procedure::heat || s.procedure == DeckStep::Procedure::coupled;
@@ -224,19 +239,7 @@ void DeckCase::build_heat(InpReader& r) {
   if (!radiate_.empty() && !absolute_zero_)
     refuse(r, radiate_.begin()->second[0].step.front().line,
            "*RADIATE needs the absolute zero: *PHYSICAL CONSTANTS, ABSOLUTE ZERO=");
-  // The materials: conductivity, and for a transient density and specific heat.
-  for (const MaterialSpec& m : spec_.materials) {
-    const auto it = std::find_if(materials_.begin(), materials_.end(),
-                                 [&](const Material& d) { return d.spec.name == m.name; });
-    const int line = it != materials_.end() ? it->line : first.line;
-    if (m.conductivity.value.empty())
-      refuse(r, line,
-             fmt::format("material '{}' has no *CONDUCTIVITY (heat steps need it)", m.name));
-    if (h.transient && (m.density.value.empty() || m.specific_heat.value.empty()))
-      refuse(r, line,
-             fmt::format("material '{}' needs *DENSITY and *SPECIFIC HEAT (transient heat steps)",
-                         m.name));
-  }
+  check_heat_materials(r, first.line);
   // The temperature of the stress analysis is the heat analysis's, from T0.
   TemperatureSpec& ts = spec_.temperature;
   ts.given = true;
