@@ -93,7 +93,7 @@ done
 # increment; as *COUPLED TEMPERATURE-DISPLACEMENT with α = 0 as well; with α = 1.2e-5 ccx's
 # coupled step conducts the heat in the deformed cube, and its temperatures move by 0.45 % of
 # the differences (3.75e-5 of the range; docs/ccx-decks.md).
-cat >"$hd_/cube.model" <<'DECK'
+cat >"$hd_/cube-mesh.inp" <<'DECK'
 *NODE, NSET=NALL
 1, 0, 0, 0
 2, 1, 0, 0
@@ -107,6 +107,10 @@ cat >"$hd_/cube.model" <<'DECK'
 1, 1, 2, 3, 4, 5, 6, 7, 8
 *NSET, NSET=BOTTOM
 1, 2, 3, 4
+*NSET, NSET=TOP
+5, 6, 7, 8
+DECK
+{ cat "$hd_/cube-mesh.inp"; cat <<'DECK'
 *MATERIAL, NAME=STEEL
 *ELASTIC
 210000., .3
@@ -123,6 +127,7 @@ ALPHA
 NALL, 20.
 *STEP
 DECK
+} >"$hd_/cube.model"
 for v in "heat 0 0" "coupled 0 0" "coupled 1.2E-5 3.75e-5"; do
   set -- $v
   { sed "s/^ALPHA$/$2/" "$hd_/cube.model"
@@ -157,23 +162,7 @@ done
 # top of a unit cube (k = 50) held at 0 on its bottom is the consistent load of a uniform
 # 100 W/m²: the top reaches q L / k = 2 exactly, 100 W flows in, and the bottom takes it out.
 mkdir -p "$hd_/nodal"
-cat >"$hd_/nodal/cube.inp" <<'DECK'
-*NODE, NSET=NALL
-1, 0, 0, 0
-2, 1, 0, 0
-3, 1, 1, 0
-4, 0, 1, 0
-5, 0, 0, 1
-6, 1, 0, 1
-7, 1, 1, 1
-8, 0, 1, 1
-*ELEMENT, TYPE=C3D8, ELSET=EALL
-1, 1, 2, 3, 4, 5, 6, 7, 8
-*NSET, NSET=BOTTOM
-1, 2, 3, 4
-*NSET, NSET=TOP
-5, 6, 7, 8
-DECK
+cp "$hd_/cube-mesh.inp" "$hd_/nodal/cube.inp"
 cat >"$hd_/nodal/case.yaml" <<'YAML'
 mesh: {file: cube.inp}
 materials: [{E: 2.0e11, nu: 0.3, alpha: 0, conductivity: 50}]
