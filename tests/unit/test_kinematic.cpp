@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <random>
 
 #include "material/kinematic.hpp"
@@ -40,6 +41,85 @@ TEST(KinematicHardening, TangentMatchesFiniteDifferences) {
         x);
     EXPECT_LE((c - fd).norm(), 1e-5 * c.norm());
   }
+}
+
+/// Armstrong–Frederick with γ = 0 is Prager's rule: the same stress, back stress and tangent
+/// as kinematic_return with H_k = ΣC_i, to round-off; with γ > 0 (two back stresses) the
+/// point ends on the moved surface, each α_i is its backward-Euler update, and the tangent is
+/// the finite differences' but for the nonsymmetric part the header names, computed here.
+TEST(KinematicHardening, ArmstrongFrederickReturn) {
+  const Hardening h(linear_spec(2.5e8, 1e9), constant(steel.E), constant(steel.nu));
+  const double g2 = 2 * steel.shear_modulus(), three_g = 1.5 * g2;
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> d(-1, 1);
+  auto deviatoric = [](Voigt a) {
+    const double tr = (a[0] + a[1] + a[2]) / 3;
+    for (int i = 0; i < 3; ++i) a[i] -= tr;
+    return a;
+  };
+  int plastic = 0;
+  for (int n = 0; n < 10; ++n) {
+    std::array<Voigt, 2> a0;
+    Voigt s0, x;
+    for (int i = 0; i < 6; ++i)
+      a0[0][i] = 3e7 * d(g), a0[1][i] = 2e7 * d(g), s0[i] = 1e8 * d(g), x[i] = 3e-3 * d(g);
+    a0[0] = deviatoric(a0[0]);
+    a0[1] = deviatoric(a0[1]);
+    const StepCurve curve(h, 20, three_g, 0.005, true);
+    s0 = a0[0] + a0[1] + 0.9 * curve.yield_now / von_mises(s0) * s0;
+    // γ = 0: Prager's return of modulus C1 + C2.
+    const std::array<BackStressLaw, 2> linear = {BackStressLaw{3e9, 0}, BackStressLaw{1e9, 0}};
+    std::array<Voigt, 2> a1;
+    const ReturnMapping r0 = armstrong_frederick_return(steel, curve, linear, s0, a0, x, a1);
+    const KinematicReturn p = kinematic_return(steel, curve, 4e9, s0, Voigt(a0[0] + a0[1]), x);
+    EXPECT_EQ(r0.plastic, p.mapping.plastic);
+    if (!p.mapping.plastic) continue;  // an increment that unloads: elastic in both
+    ++plastic;
+    EXPECT_LE((r0.sigma - p.mapping.sigma).norm(), 1e-9 * p.mapping.sigma.norm());
+    EXPECT_LE((a1[0] + a1[1] - p.alpha).norm(), 1e-9 * p.alpha.norm());
+    EXPECT_LE((r0.tangent.matrix(steel) - p.mapping.tangent.matrix(steel)).norm(),
+              1e-9 * p.mapping.tangent.matrix(steel).norm());
+    // γ > 0.
+    const std::array<BackStressLaw, 2> af = {BackStressLaw{3e10, 150}, BackStressLaw{5e9, 20}};
+    const ReturnMapping r = armstrong_frederick_return(steel, curve, af, s0, a0, x, a1);
+    ASSERT_TRUE(r.plastic);
+    const double dl = r.d_lambda;
+    EXPECT_NEAR(von_mises(Voigt(r.sigma - a1[0] - a1[1])), h.plastic(0.005 + dl, 20).value,
+                1e-9 * curve.yield_now);
+    const Voigt nd = 1.5 * deviatoric(Voigt(r.sigma - a1[0] - a1[1])) /
+                     von_mises(Voigt(r.sigma - a1[0] - a1[1]));  // N, along ξ
+    for (int i = 0; i < 2; ++i)
+      EXPECT_LE((a1[i] * (1 + af[i].gamma * dl) - a0[i] - 2.0 / 3.0 * af[i].c * dl * nd).norm(),
+                1e-9 * a0[i].norm());
+    // The nonsymmetric part: −(2GΔλ·3/(2q*))·(P a')⊗N, P = I − (2/3)N⊗N, a' = Σγβ²α(t),
+    // and the tangent's h, as the header writes them.
+    Voigt xi = deviatoric(Voigt(s0 + steel.stiffness() * x)), ap = Voigt::Zero();
+    double c_b2 = 0;
+    for (int i = 0; i < 2; ++i) {
+      const double b = 1 / (1 + af[i].gamma * dl);
+      xi -= b * a0[i];
+      ap += af[i].gamma * b * b * a0[i];
+      c_b2 += af[i].c * b * b;
+    }
+    const double q = von_mises(xi);
+    const Voigt nn = 1.5 * xi / q;
+    auto contract = [](const Voigt& u, const Voigt& v) {
+      return u[0] * v[0] + u[1] * v[1] + u[2] * v[2] +
+             2 * (u[3] * v[3] + u[4] * v[4] + u[5] * v[5]);
+    };
+    const double hh = three_g + c_b2 + h.plastic(0.005 + dl, 20).slope - contract(nn, ap);
+    const Voigt pa = ap - 2.0 / 3.0 * contract(nn, ap) * nn;
+    const Mat6 nonsym = -(g2 * dl * 1.5 / q) * (g2 / hh) * pa * nn.transpose();
+    const Mat6 fd = central_differences(
+        [&](const Voigt& y) {
+          std::array<Voigt, 2> tmp;
+          return armstrong_frederick_return(steel, curve, af, s0, a0, y, tmp).sigma;
+        },
+        x);
+    const Mat6 c = r.tangent.matrix(steel) + nonsym;
+    EXPECT_LE((c - fd).norm(), 1e-5 * c.norm()) << "n = " << n;
+  }
+  EXPECT_GE(plastic, 5);  // the draws load plastically, mostly
 }
 
 /// A point driven along uniaxial stress: the axial strain prescribed, the lateral strains
