@@ -184,11 +184,13 @@ void DeckCase::elastic(InpReader& r, const Keyword& k, int at, int first, int en
 
 void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int end) {
   Material& m = current_material(r, k, at);
-  if (const std::string* h = k.get("HARDENING"); h && upper(*h) != "ISOTROPIC")
+  const std::string* h = k.get("HARDENING");
+  const bool kinematic = h && upper(*h) == "KINEMATIC";
+  if (h && upper(*h) != "ISOTROPIC" && !kinematic)
     return refuse(r, at,
                   "*PLASTIC, HARDENING=" + *h +
-                      ": hencky reads isotropic hardening from a deck (kinematic hardening is "
-                      "plasticity.kinematic of case.yaml)");
+                      ": hencky reads isotropic and linear kinematic hardening from a deck "
+                      "(Armstrong-Frederick back stresses are plasticity.kinematic of case.yaml)");
   PlasticitySpec p;
   p.where = p.curve.where = r.where(at);
   p.curve.kind = CurveSpec::Kind::table;
@@ -225,6 +227,34 @@ void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int en
     t.point_where.push_back(r.where(l));
   }
   if (rows.empty()) throw r.fail(at, "*PLASTIC without a line of stress and plastic strain");
+  if (kinematic) {
+    // ccx's linear kinematic hardening: the yield stress and one more point, whose slope is
+    // Prager's modulus (the uniaxial dσ/dε^p of the moving surface, hencky's C).
+    const auto& tables = p.curve.tables;
+    if (tables.size() != 1 || tables[0].strain.size() != 2)
+      return refuse(r, at,
+                    "*PLASTIC, HARDENING=KINEMATIC: hencky reads two lines at one temperature (the "
+                    "yield stress at plastic strain 0 and one more point: linear kinematic "
+                    "hardening)");
+    const CurveSpec::Table& t = tables[0];
+    PlasticitySpec kp;
+    kp.where = kp.curve.where = kp.law.where = r.where(at);
+    kp.curve.kind = CurveSpec::Kind::perfect;
+    kp.curve.yield.value = {t.stress[0]};
+    kp.curve.yield.where = r.where(at);
+    PropertyTable c, gamma;
+    c.value = {(t.stress[1] - t.stress[0]) / t.strain[1]};
+    gamma.value = {0.0};
+    c.where = gamma.where = r.where(at);
+    if (!(c.value[0] >= 0))
+      return refuse(r, at,
+                    "*PLASTIC, HARDENING=KINEMATIC: the stress falls (a softening back "
+                    "stress); hencky's kinematic modulus is >= 0");
+    kp.law.law = "kinematic";
+    kp.law.keys["kinematic"] = {LawParameters::Group{{"C", c}, {"gamma", gamma}}};
+    m.spec.plasticity = std::move(kp);
+    return;
+  }
   m.spec.plasticity = std::move(p);
 }
 

@@ -80,6 +80,15 @@ peer beam10p-amplitude 1e-6 "the first step alone: the load at half its value by
 peer beam10p-history 1e-6 "an amplitude, OP=NEW and a prescribed displacement over two steps" dat
 ex_check "ccx decks: ... 2 steps of the deck, 2 of hencky (a linear step is solved once)" \
   "$cd_/beam10p-history.out/summary.json" 's["steps"] == 2 and s["title"] == "beam10p-history"'
+# *PLASTIC, HARDENING=KINEMATIC (two lines: Prager's linear kinematic hardening, C the slope
+# between them): beampkin's first step without NLGEOM, as C3D20, against ccx (on loading a
+# beam's points load nearly proportionally, where linear kinematic and isotropic hardening of one
+# modulus agree: this checks the modulus read from the two lines). (Its second step
+# reverses the load; ccx diverges there without NLGEOM, so the reversed branch is checked on
+# case.yaml's cube against the closed form, 85_point_laws.sh.)
+zcat "$suite/beampkin.inp.gz" | sed -e 's/^\*STEP,NLGEOM/*STEP/' -e 's/C3D20R/C3D20 /' |
+  awk '{print} /^\*END STEP/{exit}' >"$cd_/beampkin-step1.inp"
+peer beampkin-step1 1e-6 "beampkin's kinematic hardening, its loading step" dat
 # E at the points: the total strain with ccx's tensor shears, in ccx's point order (C3D10).
 sed -e 's/^S$/S,E/' "$cd_/beam10p.inp" >"$cd_/beam10p-strain.inp"
 peer beam10p-strain 1e-6 "beam10p with E at the 4 points of each C3D10" dat
