@@ -53,8 +53,8 @@ void DeckCase::keyword(InpReader& r, const Keyword& k, int at, int first, int en
       spec_.title = std::string(trim(r.deck().lines[first].text));
     return;
   }
-  if (n == "MATERIAL" || n == "ELASTIC" || n == "PLASTIC" || n == "EXPANSION" || n == "DENSITY" ||
-      n == "CONDUCTIVITY" || n == "SPECIFIC HEAT")
+  if (n == "MATERIAL" || n == "ELASTIC" || n == "PLASTIC" || n == "CYCLIC HARDENING" ||
+      n == "EXPANSION" || n == "DENSITY" || n == "CONDUCTIVITY" || n == "SPECIFIC HEAT")
     return material_keyword(r, k, at, first, end);
   if (n == "SOLID SECTION") return section(r, k, at, first, end);
   if (n == "INITIAL CONDITIONS") return initial_conditions(r, k, at, first, end);
@@ -117,6 +117,7 @@ void DeckCase::material_keyword(InpReader& r, const Keyword& k, int at, int firs
   }
   if (k.name == "ELASTIC") return elastic(r, k, at, first, end);
   if (k.name == "PLASTIC") return plastic(r, k, at, first, end);
+  if (k.name == "CYCLIC HARDENING") return cyclic_hardening(r, k, at, first, end);
   Material& m = current_material(r, k, at);
   // EXPANSION, DENSITY, CONDUCTIVITY, SPECIFIC HEAT: a value and its temperature per line.
   PropertyTable& p = k.name == "EXPANSION"      ? m.spec.alpha
@@ -182,32 +183,25 @@ void DeckCase::elastic(InpReader& r, const Keyword& k, int at, int first, int en
   m.spec.nu.temperature = m.spec.E.temperature;
 }
 
-void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int end) {
-  Material& m = current_material(r, k, at);
-  const std::string* h = k.get("HARDENING");
-  const bool kinematic = h && upper(*h) == "KINEMATIC";
-  if (h && upper(*h) != "ISOTROPIC" && !kinematic)
-    return refuse(r, at,
-                  "*PLASTIC, HARDENING=" + *h +
-                      ": hencky reads isotropic and linear kinematic hardening from a deck "
-                      "(Armstrong-Frederick back stresses are plasticity.kinematic of case.yaml)");
-  PlasticitySpec p;
-  p.where = p.curve.where = r.where(at);
-  p.curve.kind = CurveSpec::Kind::table;
-  p.curve.form = CurveSpec::Form::plastic;
+CurveSpec DeckCase::plastic_curve(InpReader& r, const Keyword& k, int at, int first, int end) {
+  const std::string what = "*" + k.name;
+  CurveSpec curve;
+  curve.where = r.where(at);
+  curve.kind = CurveSpec::Kind::table;
+  curve.form = CurveSpec::Form::plastic;
   const auto rows = numbers(r, first, end);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& row = rows[i];
     const int l = first + static_cast<int>(i);
     if (row.size() < 2)
-      throw r.fail(l,
-                   "a *PLASTIC line is 'stress, plastic strain' or 'stress, plastic strain, "
-                   "temperature'");
+      throw r.fail(l, "a " + what +
+                          " line is 'stress, plastic strain' or 'stress, plastic strain, "
+                          "temperature'");
     const double T = row.size() > 2 ? row[2] : 0;
-    auto& tables = p.curve.tables;
+    auto& tables = curve.tables;
     if (tables.empty() || tables.back().temperature != T) {
       if (!tables.empty() && !(T > tables.back().temperature))
-        throw r.fail(l, "*PLASTIC: the temperatures of the curves must increase");
+        throw r.fail(l, what + ": the temperatures of the curves must increase");
       CurveSpec::Table t;
       t.temperature = T;
       t.where = r.where(l);
@@ -215,27 +209,44 @@ void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int en
     }
     auto& t = tables.back();
     if (t.strain.empty() && row[1] != 0)
-      throw r.fail(l, fmt::format("*PLASTIC: each curve starts at plastic strain 0 (the yield "
+      throw r.fail(l, fmt::format("{}: each curve starts at plastic strain 0 (the yield "
                                   "stress), found {:g}",
-                                  row[1]));
+                                  what, row[1]));
     if (!t.strain.empty() && !(row[1] > t.strain.back()))
-      throw r.fail(l, "*PLASTIC: the plastic strains of a curve must increase");
+      throw r.fail(l, what + ": the plastic strains of a curve must increase");
     if (!(row[0] > 0))
-      throw r.fail(l, fmt::format("*PLASTIC: a stress must be > 0, found {:g}", row[0]));
+      throw r.fail(l, fmt::format("{}: a stress must be > 0, found {:g}", what, row[0]));
     t.strain.push_back(row[1]);
     t.stress.push_back(row[0]);
     t.point_where.push_back(r.where(l));
   }
-  if (rows.empty()) throw r.fail(at, "*PLASTIC without a line of stress and plastic strain");
+  if (rows.empty()) throw r.fail(at, what + " without a line of stress and plastic strain");
+  return curve;
+}
+
+void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int end) {
+  Material& m = current_material(r, k, at);
+  const std::string* h = k.get("HARDENING");
+  const std::string hardening = h ? upper(*h) : "ISOTROPIC";
+  const bool kinematic = hardening == "KINEMATIC" || hardening == "COMBINED";
+  if (hardening != "ISOTROPIC" && !kinematic)
+    return refuse(r, at,
+                  "*PLASTIC, HARDENING=" + *h +
+                      ": hencky reads isotropic, linear kinematic and combined hardening from a "
+                      "deck (Armstrong-Frederick back stresses are plasticity.kinematic of "
+                      "case.yaml)");
+  PlasticitySpec p;
+  p.where = r.where(at);
+  p.curve = plastic_curve(r, k, at, first, end);
   if (kinematic) {
     // ccx's linear kinematic hardening: the yield stress and one more point, whose slope is
     // Prager's modulus (the uniaxial dσ/dε^p of the moving surface, hencky's C).
     const auto& tables = p.curve.tables;
     if (tables.size() != 1 || tables[0].strain.size() != 2)
       return refuse(r, at,
-                    "*PLASTIC, HARDENING=KINEMATIC: hencky reads two lines at one temperature (the "
-                    "yield stress at plastic strain 0 and one more point: linear kinematic "
-                    "hardening)");
+                    "*PLASTIC, HARDENING=" + hardening +
+                        ": hencky reads two lines at one temperature (the yield stress at plastic "
+                        "strain 0 and one more point: linear kinematic hardening)");
     const CurveSpec::Table& t = tables[0];
     PlasticitySpec kp;
     kp.where = kp.curve.where = kp.law.where = r.where(at);
@@ -248,14 +259,26 @@ void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int en
     c.where = gamma.where = r.where(at);
     if (!(c.value[0] >= 0))
       return refuse(r, at,
-                    "*PLASTIC, HARDENING=KINEMATIC: the stress falls (a softening back "
-                    "stress); hencky's kinematic modulus is >= 0");
+                    "*PLASTIC, HARDENING=" + hardening +
+                        ": the stress falls (a softening back stress); hencky's kinematic "
+                        "modulus is >= 0");
     kp.law.law = "kinematic";
     kp.law.keys["kinematic"] = {LawParameters::Group{{"C", c}, {"gamma", gamma}}};
     m.spec.plasticity = std::move(kp);
+    // COMBINED: the isotropic part is *CYCLIC HARDENING's curve, which follows.
+    m.combined_line = hardening == "COMBINED" ? at : -1;
     return;
   }
   m.spec.plasticity = std::move(p);
+  m.combined_line = -1;
+}
+
+void DeckCase::cyclic_hardening(InpReader& r, const Keyword& k, int at, int first, int end) {
+  Material& m = current_material(r, k, at);
+  if (m.combined_line < 0 || !m.spec.plasticity)
+    return refuse(r, at, "*CYCLIC HARDENING without a *PLASTIC, HARDENING=COMBINED before it");
+  m.spec.plasticity->curve = plastic_curve(r, k, at, first, end);
+  m.cyclic = true;
 }
 
 void DeckCase::section(InpReader& r, const Keyword& k, int at, int first, int end) {

@@ -72,6 +72,8 @@ class DeckCase final : public History {
     int line = 0;
     double expansion_zero = 0;  ///< *EXPANSION, ZERO=
     bool used = false;
+    int combined_line = -1;  ///< *PLASTIC, HARDENING=COMBINED: its line; -1: none
+    bool cyclic = false;     ///< its *CYCLIC HARDENING came
   };
   using NodeDof = std::pair<long, int>;  ///< node label, direction 0 .. 2
 
@@ -85,6 +87,11 @@ class DeckCase final : public History {
   void material_keyword(InpReader& r, const Keyword& k, int at, int first, int end);
   void elastic(InpReader& r, const Keyword& k, int at, int first, int end);
   void plastic(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// The curve of *PLASTIC or *CYCLIC HARDENING: stress and plastic strain per line, a table
+  /// per temperature.
+  CurveSpec plastic_curve(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// *CYCLIC HARDENING: the isotropic part of HARDENING=COMBINED.
+  void cyclic_hardening(InpReader& r, const Keyword& k, int at, int first, int end);
   void section(InpReader& r, const Keyword& k, int at, int first, int end);
   void initial_conditions(InpReader& r, const Keyword& k, int at, int first, int end);
   void amplitude(InpReader& r, const Keyword& k, int at, int first, int end);

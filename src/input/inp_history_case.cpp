@@ -158,6 +158,10 @@ void DeckCase::build_materials(InpReader& r) {
       m.spec.nu.value = {0.0};
       m.spec.E.where = m.spec.nu.where = m.spec.where;
     }
+    if (m.combined_line >= 0 && !m.cyclic)
+      refuse(r, m.combined_line,
+             "*PLASTIC, HARDENING=COMBINED without *CYCLIC HARDENING: the isotropic part is its "
+             "curve");
     if (m.spec.E.value.empty()) {  // a material hencky lacks (refused where it is given)
       refuse(r, m.line, fmt::format("material '{}' has no *ELASTIC", m.spec.name));
       continue;

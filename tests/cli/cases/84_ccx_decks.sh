@@ -89,6 +89,14 @@ ex_check "ccx decks: ... 2 steps of the deck, 2 of hencky (a linear step is solv
 zcat "$suite/beampkin.inp.gz" | sed -e 's/^\*STEP,NLGEOM/*STEP/' -e 's/C3D20R/C3D20 /' |
   awk '{print} /^\*END STEP/{exit}' >"$cd_/beampkin-step1.inp"
 peer beampkin-step1 1e-6 "beampkin's kinematic hardening, its loading step" dat
+# HARDENING=COMBINED with *CYCLIC HARDENING (the isotropic part's curve): beampik's first step.
+zcat "$suite/beampik.inp.gz" | sed -e 's/^\*STEP,NLGEOM/*STEP/' -e 's/C3D20R/C3D20 /' |
+  awk '{print} /^\*END STEP/{exit}' >"$cd_/beampik-step1.inp"
+peer beampik-step1 1e-6 "beampik's combined hardening, its loading step" dat
+sed -e '/^\*CYCLIC HARDENING/,+2d' "$cd_/beampik-step1.inp" >"$cd_/beampik-nocyclic.inp"
+expect "ccx decks: COMBINED without *CYCLIC HARDENING is refused" 1 \
+  "beampik-nocyclic.inp:[0-9]+: \*PLASTIC, HARDENING=COMBINED without \*CYCLIC HARDENING" -- \
+  check "$cd_/beampik-nocyclic.inp"
 # E at the points: the total strain with ccx's tensor shears, in ccx's point order (C3D10).
 sed -e 's/^S$/S,E/' "$cd_/beam10p.inp" >"$cd_/beam10p-strain.inp"
 peer beam10p-strain 1e-6 "beam10p with E at the 4 points of each C3D10" dat
