@@ -116,14 +116,20 @@ std::string ccx_deck(const std::string& job) {
 }
 
 /// `hencky ccx -i JOB`: JOB.dat and JOB.frd beside the deck, where ccx writes them, copied from
-/// the run's output directory JOB.out (a front end that calls ccx reads them there).
+/// the run's output directory JOB.out (a front end that calls ccx reads them there). One the run
+/// did not write (a run on several MPI ranks writes neither) is removed beside the deck: a front
+/// end must not read an earlier run's as this one's.
 void copy_ccx_files(const std::string& deck) {
   const fs::path inp(deck), out = fs::path(deck).replace_extension(".out");
   for (const char* ext : {".dat", ".frd"}) {
     const fs::path from = out / fs::path(inp.filename()).replace_extension(ext);
     const fs::path to = fs::path(inp).replace_extension(ext);
     std::error_code ec;
-    if (fs::exists(from, ec)) fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    if (fs::exists(from, ec))
+      fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    else if (fs::exists(to, ec) && fs::remove(to, ec))
+      std::cerr << "warning: " << to.string()
+                << " of an earlier run removed: this run wrote none\n";
     if (ec)
       std::cerr << "warning: cannot copy " << from.string() << " to " << to.string() << ": "
                 << ec.message() << "\n";

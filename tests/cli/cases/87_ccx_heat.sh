@@ -207,6 +207,13 @@ if with_mpi; then
   [ -f "$hd_/mpi.out/results.pvd" ] && [ ! -e "$hd_/mpi.out/beamth-frd.dat" ] &&
     ok "ccx heat: ... the fields are written, the .dat is not" ||
     bad "ccx heat: on 2 ranks, the fields or the .dat are not as said"
+  # `hencky ccx -i JOB` on 2 ranks: an earlier JOB.dat beside the deck is removed, not left to
+  # be read as this run's.
+  mkdir -p "$hd_/job" && cp "$hd_/beamth-frd.inp" "$hd_/job/" && echo stale >"$hd_/job/beamth-frd.dat"
+  mpi_expect "ccx heat: hencky ccx -i on 2 ranks says the earlier .dat is removed" 0 \
+    "beamth-frd.dat of an earlier run removed: this run wrote none" 2 -- ccx -i "$hd_/job/beamth-frd"
+  [ ! -e "$hd_/job/beamth-frd.dat" ] && ok "ccx heat: ... and it is gone" ||
+    bad "ccx heat: the earlier beamth-frd.dat is still beside the deck"
   # A steady step ramps its temperatures from 0: at t = 0 the answer is T = 0, whose residual
   # has no magnitudes to be measured against (CG + GAMG stalled at 2e-2 of them before the first
   # iterate's magnitudes were kept as the floor). On 2 ranks, the serial run's fields.
