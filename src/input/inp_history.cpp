@@ -235,6 +235,18 @@ void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int en
                       ": hencky reads isotropic, linear kinematic and combined hardening from a "
                       "deck (Armstrong-Frederick back stresses are plasticity.kinematic of "
                       "case.yaml)");
+  for (const auto& [name, v] : k.params)
+    if (name != "HARDENING" && name != "DATATYPE" && name != "NUMBER BACKSTRESSES")
+      return refuse(
+          r, at, fmt::format("*PLASTIC, {}{}: not read by hencky", name, v.empty() ? "" : "=" + v));
+  if (const std::string* d = k.get("DATATYPE"); d && upper(*d) != "PARAMETERS")
+    return refuse(r, at, "*PLASTIC, DATATYPE=" + *d + ": hencky reads PARAMETERS (or a table)");
+  if (const std::string* d = k.get("DATATYPE"); d && upper(*d) == "PARAMETERS") {
+    if (hardening != "COMBINED")
+      return refuse(r, at,
+                    "*PLASTIC, DATATYPE=PARAMETERS: hencky reads it with HARDENING=COMBINED");
+    return back_stress_parameters(r, k, at, first, end, m);
+  }
   PlasticitySpec p;
   p.where = r.where(at);
   p.curve = plastic_curve(r, k, at, first, end);
@@ -273,8 +285,74 @@ void DeckCase::plastic(InpReader& r, const Keyword& k, int at, int first, int en
   m.combined_line = -1;
 }
 
+void DeckCase::back_stress_parameters(InpReader& r, const Keyword& k, int at, int first, int end,
+                                      Material& m) {
+  // Abaqus's `σ|0, C1, γ1, C2, γ2, ..., [T]` per line (one line per temperature): the
+  // isotropic part stays at σ|0 without *CYCLIC HARDENING, as there.
+  int n = 1;
+  if (const std::string* b = k.get("NUMBER BACKSTRESSES")) {
+    const double v = r.real(*b, at, "NUMBER BACKSTRESSES");
+    if (!(v >= 1 && v <= 3 && v == std::floor(v)))
+      return refuse(r, at,
+                    fmt::format("*PLASTIC, NUMBER BACKSTRESSES={}: hencky reads 1 to 3 (a line "
+                                "each temperature)",
+                                *b));
+    n = static_cast<int>(v);
+  }
+  PlasticitySpec kp;
+  kp.where = kp.curve.where = kp.law.where = r.where(at);
+  kp.curve.kind = CurveSpec::Kind::perfect;
+  kp.curve.yield.where = r.where(at);
+  std::vector<PropertyTable> c(static_cast<std::size_t>(n)), gamma(c.size());
+  const auto rows = numbers(r, first, end);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    const int l = first + static_cast<int>(i);
+    const std::size_t need = 1 + 2 * static_cast<std::size_t>(n);
+    if (row.size() != need && row.size() != need + 1)
+      throw r.fail(l, fmt::format("a *PLASTIC, DATATYPE=PARAMETERS line is 'yield stress, C1, "
+                                  "gamma1, ...' for {} back stress{}, then the temperature",
+                                  n, n > 1 ? "es" : ""));
+    auto add = [&](PropertyTable& t, double v) {
+      t.value.push_back(v);
+      if (row.size() > need) t.temperature.push_back(row[need]);
+      t.where = r.where(l);
+    };
+    if (!(row[0] > 0))
+      throw r.fail(l, fmt::format("the yield stress must be > 0, found {:g}", row[0]));
+    add(kp.curve.yield, row[0]);
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      if (!(row[1 + 2 * j] >= 0 && row[2 + 2 * j] >= 0))
+        throw r.fail(l, "C and gamma must be >= 0");
+      add(c[j], row[1 + 2 * j]);
+      add(gamma[j], row[2 + 2 * j]);
+    }
+  }
+  if (rows.empty()) throw r.fail(at, "*PLASTIC, DATATYPE=PARAMETERS without a line");
+  const auto& temps = kp.curve.yield.temperature;
+  if (rows.size() > 1 && (temps.size() != rows.size() ||
+                          std::adjacent_find(temps.begin(), temps.end(), [](double a, double b) {
+                            return !(b > a);
+                          }) != temps.end()))
+    throw r.fail(at, "*PLASTIC, DATATYPE=PARAMETERS: several lines need increasing temperatures");
+  if (rows.size() == 1) {
+    kp.curve.yield.temperature.clear();
+    for (std::size_t j = 0; j < c.size(); ++j)
+      c[j].temperature.clear(), gamma[j].temperature.clear();
+  }
+  kp.law.law = "kinematic";
+  for (std::size_t j = 0; j < c.size(); ++j)
+    kp.law.keys["kinematic"].push_back(LawParameters::Group{{"C", c[j]}, {"gamma", gamma[j]}});
+  m.spec.plasticity = std::move(kp);
+  m.combined_line = -1;
+}
+
 void DeckCase::cyclic_hardening(InpReader& r, const Keyword& k, int at, int first, int end) {
   Material& m = current_material(r, k, at);
+  if (k.has("PARAMETERS"))
+    return refuse(r, at,
+                  "*CYCLIC HARDENING, PARAMETERS: hencky's isotropic part is a curve (give it as "
+                  "a table of stress and plastic strain)");
   if (m.combined_line < 0 || !m.spec.plasticity)
     return refuse(r, at, "*CYCLIC HARDENING without a *PLASTIC, HARDENING=COMBINED before it");
   m.spec.plasticity->curve = plastic_curve(r, k, at, first, end);

@@ -90,6 +90,10 @@ class DeckCase final : public History {
   /// The curve of *PLASTIC or *CYCLIC HARDENING: stress and plastic strain per line, a table
   /// per temperature.
   CurveSpec plastic_curve(InpReader& r, const Keyword& k, int at, int first, int end);
+  /// *PLASTIC, HARDENING=COMBINED, DATATYPE=PARAMETERS (Abaqus): Armstrong–Frederick back
+  /// stresses on a yield stress.
+  void back_stress_parameters(InpReader& r, const Keyword& k, int at, int first, int end,
+                              Material& m);
   /// *CYCLIC HARDENING: the isotropic part of HARDENING=COMBINED.
   void cyclic_hardening(InpReader& r, const Keyword& k, int at, int first, int end);
   void section(InpReader& r, const Keyword& k, int at, int first, int end);

@@ -52,6 +52,13 @@ PY
 expect "point law: AF, 16 steps to t = 1" 0 "" -- run "$a/fine.yaml" --quiet
 ex_check "point law: AF, the closed form's error at eps = 1 % falls to 0.2 .. 0.32 of itself with 4 times the steps" "$ha" \
   "(lambda err: 0.2 < err('$a/fine.out/history.csv') / err('$a/case.out/history.csv') < 0.32 and err('$a/case.out/history.csv') < 0.05)(lambda p: (lambda r: abs(r['centre.stress.zz'] - ($SY + $CG/$GA*(1 - np.exp(-$GA*(0.01 - r['centre.stress.zz']/$E))))) / $SY)([x for x in ({k: float(v) for k, v in r.items()} for r in csv.DictReader(open(p))) if abs(x['time'] - 1) < 1e-12][0]))"
+# The same cube as an Abaqus deck (*PLASTIC, HARDENING=COMBINED, DATATYPE=PARAMETERS): the
+# homogeneous stress at every point of its one element is the case's at t = 1 and 2, to 1e-6 (the
+# .dat's 7 digits).
+expect "point law: AF from an Abaqus deck's parameters runs" 0 "" -- run "$a/af-abaqus.inp" --quiet
+szz() { awk -v t="$2" '/stresses/ {on = ($NF + 0 == t)} on && $1 == 1 && $2 == 1 {print $5}' "$1"; }
+ex_check "point law: ... its stress is the case's at t = 1 and 2" "$ha" \
+  "close(at(1)['centre.stress.zz'], $(szz "$a/af-abaqus.out/af-abaqus.dat" 1), 1e-6) and close(at(2)['centre.stress.zz'], $(szz "$a/af-abaqus.out/af-abaqus.dat" 2), 1e-6)"
 ex_check "point law: AF, the back stress alpha_zz = (2/3)(sigma - sigma_y) on the compression branch, to 1e-6" "$a/case.out/summary.json" \
   "close(s['probes']['centre']['back_stress']['zz'], 2/3*(s['probes']['centre']['stress']['zz'] + $SY), 1e-6)"
 ex_check "point law: AF, newton converges in at most 5 iterations a step (the tangent's symmetric part)" "$ha" \
