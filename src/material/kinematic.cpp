@@ -37,11 +37,6 @@ Voigt deviator(const Voigt& s) {
   return d;
 }
 
-/// a:b of two stress-like vectors (shears counted twice).
-double contract(const Voigt& a, const Voigt& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2 * (a[3] * b[3] + a[4] * b[4] + a[5] * b[5]);
-}
-
 }  // namespace
 
 ReturnMapping armstrong_frederick_return(const ElasticConstants& k, const StepCurve& curve,
@@ -84,7 +79,8 @@ ReturnMapping armstrong_frederick_return(const ElasticConstants& k, const StepCu
     }
     q = von_mises(xi);
     const auto iso = curve.hardening->plastic(curve.eps_p + dl, curve.temperature);
-    const double n_a = q > 0 ? 1.5 * contract(xi, a_prime) / q : 0.0;
+    // N:a' with N = (3/2)ξ/q: Mξ·a'/q, a' being deviatoric (plastic_point.hpp's m_times).
+    const double n_a = q > 0 ? m_times(xi).dot(a_prime) / q : 0.0;
     h = three_g + c_beta2 + iso.slope - n_a;
     return q - (three_g + c_beta) * dl - iso.value;
   };
@@ -149,9 +145,10 @@ ReturnMapping KinematicLaw::update(const ElasticConstants& k, const StepCurve& c
     return r.mapping;
   }
   // The state: α = Σα_i, then α_2 .. α_m; α_1 = α − (α_2 + .. + α_m).
+  // On the stack: this runs at every point in every iteration (max_back_stresses bounds m).
   const std::size_t m = c_.size();
-  std::vector<BackStressLaw> laws(m);
-  std::vector<Voigt> a0(m), a1(m);
+  std::array<BackStressLaw, max_back_stresses> laws;
+  std::array<Voigt, max_back_stresses> a0, a1;
   a0[0] = alpha0;
   for (std::size_t i = 0; i < m; ++i) {
     laws[i] = {c_[i](curve.temperature), gamma_[i](curve.temperature)};
@@ -160,7 +157,9 @@ ReturnMapping KinematicLaw::update(const ElasticConstants& k, const StepCurve& c
       a0[0] -= a0[i];
     }
   }
-  const ReturnMapping r = armstrong_frederick_return(k, curve, laws, sigma0, a0, d_mech, a1);
+  const ReturnMapping r = armstrong_frederick_return(
+      k, curve, std::span<const BackStressLaw>(laws.data(), m), sigma0,
+      std::span<const Voigt>(a0.data(), m), d_mech, std::span<Voigt>(a1.data(), m));
   Voigt total = Voigt::Zero();
   for (std::size_t i = 0; i < m; ++i) {
     total += a1[i];
@@ -178,6 +177,9 @@ LawDeclaration kinematic_law_declaration() {
   d.make = [](const PlasticitySpec& spec) -> std::shared_ptr<const PointLaw> {
     const auto& groups = spec.law.keys.at("kinematic");
     std::vector<PropertyTable> c, gammas;
+    if (groups.size() > max_back_stresses)
+      throw InputError(spec.law.where, fmt::format("{} back stresses: hencky takes at most {}",
+                                                   groups.size(), max_back_stresses));
     for (const auto& g : groups) {
       const PropertyTable& gamma = g.at("gamma");
       for (double v : gamma.value)

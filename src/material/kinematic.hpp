@@ -26,6 +26,9 @@ struct KinematicReturn {
 KinematicReturn kinematic_return(const ElasticConstants& k, const StepCurve& curve, double h_kin,
                                  const Voigt& sigma0, const Voigt& alpha0, const Voigt& d_eps_ep);
 
+/// The most back stresses a material may have (a point's update keeps them on the stack).
+inline constexpr std::size_t max_back_stresses = 8;
+
 /// One Armstrong–Frederick back stress at the step's temperature: dα = (2/3)·C·dε^p − γ·α·dε̃^p.
 struct BackStressLaw {
   double c = 0;      ///< C (Pa)

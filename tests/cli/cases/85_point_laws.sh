@@ -74,6 +74,8 @@ bad_case() {  # bad_case NAME SED-EXPRESSION PATTERN
 bad_case "a report scheme" 's/scheme: newton/scheme: initial-stress/' \
   "material 'steel' has kinematic hardening, which solver.scheme 'initial-stress' cannot run.*use scheme: newton"
 bad_case "gamma < 0" 's/gamma: 0/gamma: -1/' "gamma = -1: expected a rate >= 0"
+nine="$(printf '{C: 2e10, gamma: 1}, %.0s' 1 2 3 4 5 6 7 8){C: 2e10, gamma: 1}"
+bad_case "nine back stresses" "s/\\[\\{C: 2e10, gamma: 0\\}\\]/[$nine]/" "9 back stresses: hencky takes at most 8"
 bad_case "unloading-curve" 's/^( +)kinematic: /\1unloading: curve\n\1kinematic: /' "kinematic hardening needs elastic unloading"
 bad_case "a misspelt key" 's/kinematic: /kinematik: /' "unknown key 'kinematik'; did you mean 'kinematic'"
 bad_case "a group without C" 's/\{C: 2e10, gamma: 0\}/{gamma: 0}/' "kinematic\[0\].*C"
