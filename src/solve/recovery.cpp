@@ -7,6 +7,7 @@
 #include "fem/reference_element.hpp"
 #include "material/elastic.hpp"
 #include "parallel/mpi.hpp"
+#include "solve/element_matrix.hpp"
 
 namespace hencky {
 namespace {
@@ -182,9 +183,9 @@ void cell_means(const Mesh& mesh, const std::vector<double>& cells, RecoveredFie
 }  // namespace
 
 void point_strains(const Model& model, const State& state, int e, std::vector<Voigt>& strain) {
-  CellKinematics kin;
+  // Called cell by cell (MODEL.dat's E): the thread's scratch, not 26 kB zeroed per cell.
   PointTensors at_point[max_cell_points];
-  point_tensors(model, state, e, kin, at_point);
+  point_tensors(model, state, e, thread_kinematics(), at_point);
   const int n = reference_table(model.mesh().cells.type[e]).n_points;
   strain.resize(static_cast<std::size_t>(n));
   for (int q = 0; q < n; ++q) strain[static_cast<std::size_t>(q)] = at_point[q][1];
