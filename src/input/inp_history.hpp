@@ -152,7 +152,8 @@ class DeckCase final : public History {
   /// the group's first was given on: each group becomes one region.
   template <class Key>
   using Groups = std::map<std::array<std::string, 2>, std::pair<std::vector<Key>, int>>;
-  /// The courses that are not 0 throughout, grouped by their expression.
+  /// The courses that are not 0 throughout, grouped by their expression (defined below: the
+  /// loads' faces and the heat conditions share it).
   template <class Key>
   Groups<Key> group_courses(std::map<Key, Course>& courses);
   /// One heat.boundary entry of `kind` per group, its region named STEM-1, STEM-2, ...
@@ -208,5 +209,19 @@ class DeckCase final : public History {
   std::vector<std::array<int, 2>> frequency_;
   void build_requests();
 };
+
+template <class Key>
+DeckCase::Groups<Key> DeckCase::group_courses(std::map<Key, Course>& courses) {
+  Groups<Key> groups;
+  for (auto& [key, c] : courses) {
+    in_step(c);
+    const std::string e = expression(c);
+    if (e == "0") continue;
+    auto& g = groups[{e, ""}];
+    if (g.first.empty()) g.second = c.step.back().line;
+    g.first.push_back(key);
+  }
+  return groups;
+}
 
 }  // namespace hencky::inp

@@ -262,22 +262,13 @@ void DeckCase::build_loads(InpReader& r) {
     r.add_node_set(b.region, nodes, line_of.at(nodes.front()));
     spec_.boundary.push_back(std::move(b));
   }
-  std::map<std::string, std::pair<std::vector<ElementFace>, int>> faces;
-  for (auto& [face, c] : pressure_) {
-    in_step(c);
-    const std::string e = expression(c);
-    if (e == "0") continue;
-    auto& g = faces[e];
-    if (g.first.empty()) g.second = c.step.back().line;
-    g.first.push_back(face);
-  }
   k = 0;
-  for (const auto& [e, g] : faces) {
+  for (const auto& [e, g] : group_courses(pressure_)) {
     BoundarySpec b;
     b.region = r.unused_name(fmt::format("DLOAD-{}", ++k));
     b.kind = BoundaryKind::pressure;
     b.where = r.where(g.second);
-    b.pressure = Expression::parse(e, b.where);
+    b.pressure = Expression::parse(e[0], b.where);
     r.add_face_surface(b.region, g.first, g.second);
     spec_.boundary.push_back(std::move(b));
   }
@@ -355,7 +346,7 @@ void DeckCase::build_temperature(InpReader& r) {
                          "temperature, or 0)",
                          m.spec.name, m.expansion_zero, ts.reference));
   }
-  if (lo != hi && expands)
+  if (lo != hi && expands && !has_heat())  // a heat deck refuses it in build_heat
     refuse(r, initial_line_,
            fmt::format("*INITIAL CONDITIONS: the initial temperatures range from {:g} to {:g}; "
                        "hencky's stress-free temperature is one value for the body",

@@ -169,8 +169,8 @@ bool DeckCase::has_heat() const {
 void DeckCase::build_heat(InpReader& r) {
   const bool heat = has_heat();
   if (!heat) {
-    for (const auto& [n, c] : fixed_temperature_)
-      return refuse(r, c.step.front().line,
+    if (!fixed_temperature_.empty())
+      return refuse(r, fixed_temperature_.begin()->second.step.front().line,
                     "*BOUNDARY on degree of freedom 11 (a temperature) in a *STATIC deck: give "
                     "the temperatures with *TEMPERATURE");
     for (const auto* faces : {&film_, &radiate_})
@@ -254,20 +254,6 @@ void DeckCase::build_heat(InpReader& r) {
     refuse(r, first.line,
            "a steady heat step needs a temperature (*BOUNDARY on 11), *FILM or *RADIATE: with "
            "heat fluxes alone the temperature is known only up to a constant");
-}
-
-template <class Key>
-DeckCase::Groups<Key> DeckCase::group_courses(std::map<Key, Course>& courses) {
-  Groups<Key> groups;
-  for (auto& [key, c] : courses) {
-    in_step(c);
-    const std::string e = expression(c);
-    if (e == "0") continue;
-    auto& g = groups[{e, ""}];
-    if (g.first.empty()) g.second = c.step.back().line;
-    g.first.push_back(key);
-  }
-  return groups;
 }
 
 template <class Key>
